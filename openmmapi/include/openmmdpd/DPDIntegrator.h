@@ -1,0 +1,108 @@
+#ifndef OPENMMDPD_DPDINTEGRATOR_H_
+#define OPENMMDPD_DPDINTEGRATOR_H_
+
+#include "openmm/Integrator.h"
+#include "openmm/Kernel.h"
+#include "openmmdpd/DPDTypePairTable.h"
+#include <map>
+#include <string>
+
+namespace OpenMMDPD {
+
+/**
+ * Dissipative particle dynamics with the splitting schemes of Shang 2021 (SIAM J. Sci. Comput.):
+ *
+ *  - VV     velocity Verlet / Groot-Warren with lambda = 1/2 (eq. 2.3): conservative, dissipative and
+ *           random forces at the same positions, reused in the next step.
+ *  - S1     Shardlow's DPD-S1 = O B A B (eqs. 2.9-2.13): successive pairwise BBK updates for O.
+ *  - ABOBA  A(h/2) B(h/2) O(h) B(h/2) A(h/2) (eqs. 2.18-2.24): each pair's Ornstein-Uhlenbeck
+ *           step solved exactly with its reduced mass (eqs. 2.14-2.17), successively over pairs,
+ *           one force evaluation per step, at q^{n+1/2}.
+ *
+ * The pairwise dissipative force is -gamma w(r)^2 (e.v) e and the random force sigma w(r) e dW with
+ * w(r) = 1 - r/r_c and sigma^2 = 2 gamma kT (eqs. 1.1-1.5).  The friction gamma (amu/ps) and the
+ * dissipative cutoff r_c (nm) have defaults and per-type-pair overrides, as in OpenMM's own
+ * DPDIntegrator.  The B step uses the total force of the Context (every force in the integration
+ * force groups), so any OpenMM force may supply the conservative part.
+ *
+ * Particles of zero mass do not move and take no part in the pair sweeps.  Constraints are not supported.
+ */
+class DPDIntegrator : public OpenMM::Integrator {
+public:
+    enum Scheme { VV = 0, S1 = 1, ABOBA = 2 };
+
+    /**
+     * @param temperature      the temperature T (K) of the heat bath; > 0
+     * @param defaultFriction  the friction gamma (amu/ps) of type pairs without override; >= 0
+     * @param defaultCutoff    the dissipative cutoff r_c (nm) of those type pairs; > 0
+     * @param stepSize         the step size (ps); > 0
+     * @param scheme           the splitting scheme
+     */
+    DPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize, Scheme scheme = ABOBA);
+    /** The same, with the scheme given by name: "VV", "S1" or "ABOBA". */
+    DPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize, const std::string& scheme);
+
+    static Scheme schemeFromName(const std::string& name);
+    static std::string schemeName(Scheme scheme);
+
+    Scheme getScheme() const { return scheme; }
+    std::string getSchemeName() const { return schemeName(scheme); }
+    void setScheme(Scheme scheme);
+
+    double getTemperature() const { return temperature; }
+    void setTemperature(double temperature);
+
+    double getDefaultFriction() const { return table.getDefaultValue(); }
+    void setDefaultFriction(double friction) { table.setDefaultValue(friction); }
+    double getDefaultCutoff() const { return table.getDefaultCutoff(); }
+    void setDefaultCutoff(double cutoff) { table.setDefaultCutoff(cutoff); }
+
+    int getParticleType(int index) const { return table.getParticleType(index); }
+    void setParticleType(int index, int type) { table.setParticleType(index, type); }
+    const std::map<int, int>& getParticleTypes() const { return table.getParticleTypes(); }
+    int getNumTypePairs() const { return table.getNumTypePairs(); }
+    int addTypePair(int type1, int type2, double friction, double cutoff) { return table.addTypePair(type1, type2, friction, cutoff); }
+    void getTypePairParameters(int pairIndex, int& type1, int& type2, double& friction, double& cutoff) const;
+    void setTypePairParameters(int pairIndex, int type1, int type2, double friction, double cutoff) {
+        table.setTypePair(pairIndex, type1, type2, friction, cutoff);
+    }
+    /** The particle types and type pairs (the mutable form is for deserialization). */
+    const DPDTypePairTable& getTable() const { return table; }
+    DPDTypePairTable& getTable() { return table; }
+
+    /**
+     * The seed of the pairwise random numbers.  0 (the default) picks a new seed each time a Context
+     * is created; any other value makes runs reproducible.
+     */
+    int getRandomNumberSeed() const { return randomNumberSeed; }
+    void setRandomNumberSeed(int seed) { randomNumberSeed = seed; }
+
+    void setStepSize(double size) override;
+
+    /**
+     * Advance the simulation.  A step that produces a non-finite position or velocity throws an
+     * OpenMMException naming the step, the scheme and the step size.
+     */
+    void step(int steps) override;
+
+protected:
+    void initialize(OpenMM::ContextImpl& context) override;
+    void cleanup() override;
+    std::vector<std::string> getKernelNames() override;
+    void stateChanged(OpenMM::State::DataType changed) override;
+    double computeKineticEnergy() override;
+    bool kineticEnergyRequiresForce() const override { return false; }
+    void createCheckpoint(std::ostream& stream) const override;
+    void loadCheckpoint(std::istream& stream) override;
+
+private:
+    double temperature;
+    Scheme scheme;
+    int randomNumberSeed = 0;
+    DPDTypePairTable table;
+    OpenMM::Kernel kernel;
+};
+
+} // namespace OpenMMDPD
+
+#endif

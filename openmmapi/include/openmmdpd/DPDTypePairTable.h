@@ -1,0 +1,74 @@
+#ifndef OPENMMDPD_DPDTYPEPAIRTABLE_H_
+#define OPENMMDPD_DPDTYPEPAIRTABLE_H_
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace OpenMMDPD {
+
+/**
+ * Particle types and per-type-pair parameters, shared by DPDForce (repulsion a_ij, conservative
+ * cutoff) and DPDIntegrator (friction gamma_ij, dissipative cutoff).  Every particle has type 0
+ * unless set otherwise; every pair of types uses the default value and cutoff unless a type pair
+ * overrides them.  The convention follows OpenMM's own DPDIntegrator.
+ *
+ * The table knows the name of its value ("a", "friction") so that its exceptions name the parameter.
+ */
+class DPDTypePairTable {
+public:
+    struct TypePair {
+        int type1, type2;
+        double value, cutoff;
+    };
+    /**
+     * The dense form the kernels use: one type index per particle and numTypes x numTypes matrices.
+     */
+    struct Compiled {
+        int numTypes = 0;
+        std::vector<int> particleTypeIndex;
+        std::vector<double> value, cutoff;
+        double maxCutoff = 0.0;
+        bool allValuesZero = true;
+        double valueOf(int typeIndex1, int typeIndex2) const { return value[typeIndex1*numTypes+typeIndex2]; }
+        double cutoffOf(int typeIndex1, int typeIndex2) const { return cutoff[typeIndex1*numTypes+typeIndex2]; }
+    };
+
+    DPDTypePairTable(const std::string& ownerName, const std::string& valueName, bool valueMayBeNegative,
+                     double defaultValue, double defaultCutoff);
+
+    double getDefaultValue() const { return defaultValue; }
+    void setDefaultValue(double value);
+    double getDefaultCutoff() const { return defaultCutoff; }
+    void setDefaultCutoff(double cutoff);
+
+    int getParticleType(int index) const;
+    void setParticleType(int index, int type);
+    const std::map<int, int>& getParticleTypes() const { return particleTypes; }
+
+    int getNumTypePairs() const { return static_cast<int>(typePairs.size()); }
+    int addTypePair(int type1, int type2, double value, double cutoff);
+    const TypePair& getTypePair(int pairIndex) const;
+    void setTypePair(int pairIndex, int type1, int type2, double value, double cutoff);
+
+    /**
+     * Check the table against a System of numParticles particles and build the dense form.
+     */
+    Compiled compile(int numParticles) const;
+
+private:
+    void checkValue(double value) const;
+    void checkCutoff(double cutoff) const;
+    void checkType(int type, const char* what) const;
+    void checkPairIndex(int pairIndex) const;
+    void checkUnique(int type1, int type2, int ignoredIndex) const;
+    std::string ownerName, valueName;
+    bool valueMayBeNegative;
+    double defaultValue, defaultCutoff;
+    std::map<int, int> particleTypes;
+    std::vector<TypePair> typePairs;
+};
+
+} // namespace OpenMMDPD
+
+#endif

@@ -1,0 +1,33 @@
+#ifndef OPENMMDPD_INTEGRATEDPDSTEPKERNEL_H_
+#define OPENMMDPD_INTEGRATEDPDSTEPKERNEL_H_
+
+#include "openmm/KernelImpl.h"
+#include "openmm/State.h"
+#include "openmm/System.h"
+#include "openmm/internal/ContextImpl.h"
+#include "openmmdpd/DPDIntegrator.h"
+#include <iosfwd>
+#include <string>
+
+namespace OpenMMDPD {
+
+/**
+ * Takes steps of a DPDIntegrator.  The name is the plugin's own, so that OpenMM's built-in
+ * DPDIntegrator (kernel "IntegrateDPDStep") loads beside it.
+ */
+class IntegrateDPDStepKernel : public OpenMM::KernelImpl {
+public:
+    static std::string Name() { return "OpenMMDPD_IntegrateDPDSplittingStep"; }
+    IntegrateDPDStepKernel(const std::string& name, const OpenMM::Platform& platform) : OpenMM::KernelImpl(name, platform) {}
+    virtual void initialize(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) = 0;
+    virtual void execute(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) = 0;
+    virtual double computeKineticEnergy(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) = 0;
+    /** The Context's positions, velocities, box or parameters were changed from outside the integrator. */
+    virtual void stateChanged(OpenMM::State::DataType changed) = 0;
+    virtual void createCheckpoint(std::ostream& stream) const = 0;
+    virtual void loadCheckpoint(std::istream& stream) = 0;
+};
+
+} // namespace OpenMMDPD
+
+#endif

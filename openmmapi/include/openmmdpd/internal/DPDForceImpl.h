@@ -1,0 +1,33 @@
+#ifndef OPENMMDPD_DPDFORCEIMPL_H_
+#define OPENMMDPD_DPDFORCEIMPL_H_
+
+#include "openmm/Kernel.h"
+#include "openmm/internal/ForceImpl.h"
+#include "openmmdpd/DPDForce.h"
+#include <map>
+#include <string>
+#include <vector>
+
+namespace OpenMMDPD {
+
+class DPDForceImpl : public OpenMM::ForceImpl {
+public:
+    explicit DPDForceImpl(const DPDForce& owner) : owner(owner) {}
+    void initialize(OpenMM::ContextImpl& context) override;
+    const DPDForce& getOwner() const override { return owner; }
+    void updateContextState(OpenMM::ContextImpl& context) override {}
+    double calcForcesAndEnergy(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy, int groups) override;
+    std::map<std::string, double> getDefaultParameters() override { return {}; }
+    std::vector<std::string> getKernelNames() override;
+    void updateParametersInContext(OpenMM::ContextImpl& context);
+    /** The platform kernel, through which an integrator of the same platform may share the pair list. */
+    OpenMM::Kernel& getKernel() { return kernel; }
+
+private:
+    const DPDForce& owner;
+    OpenMM::Kernel kernel;
+};
+
+} // namespace OpenMMDPD
+
+#endif

@@ -1,0 +1,25 @@
+#include "openmmdpd/internal/DPDForceImpl.h"
+#include "openmmdpd/CalcDPDForceKernel.h"
+#include "openmm/internal/ContextImpl.h"
+
+using namespace OpenMMDPD;
+
+void DPDForceImpl::initialize(OpenMM::ContextImpl& context) {
+    kernel = context.getPlatform().createKernel(CalcDPDForceKernel::Name(), context);
+    kernel.getAs<CalcDPDForceKernel>().initialize(context.getSystem(), owner);
+}
+
+double DPDForceImpl::calcForcesAndEnergy(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy, int groups) {
+    if ((groups & (1 << owner.getForceGroup())) == 0)
+        return 0.0;
+    return kernel.getAs<CalcDPDForceKernel>().execute(context, includeForces, includeEnergy);
+}
+
+std::vector<std::string> DPDForceImpl::getKernelNames() {
+    return {CalcDPDForceKernel::Name()};
+}
+
+void DPDForceImpl::updateParametersInContext(OpenMM::ContextImpl& context) {
+    kernel.getAs<CalcDPDForceKernel>().copyParametersToContext(context, owner);
+    context.systemChanged();
+}

@@ -1,0 +1,121 @@
+#include "openmmdpd/DPDIntegrator.h"
+#include "openmmdpd/IntegrateDPDStepKernel.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/internal/ContextImpl.h"
+#include <cmath>
+#include <sstream>
+
+using namespace OpenMMDPD;
+using OpenMM::OpenMMException;
+
+DPDIntegrator::DPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize, Scheme scheme)
+    : table("DPDIntegrator", "friction", false, defaultFriction, defaultCutoff) {
+    setTemperature(temperature);
+    setStepSize(stepSize);
+    setScheme(scheme);
+    setConstraintTolerance(1e-5);
+}
+
+DPDIntegrator::DPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize, const std::string& scheme)
+    : DPDIntegrator(temperature, defaultFriction, defaultCutoff, stepSize, schemeFromName(scheme)) {}
+
+DPDIntegrator::Scheme DPDIntegrator::schemeFromName(const std::string& name) {
+    if (name == "VV")
+        return VV;
+    if (name == "S1")
+        return S1;
+    if (name == "ABOBA")
+        return ABOBA;
+    throw OpenMMException("DPDIntegrator: unknown scheme '"+name+"'; the schemes are \"VV\", \"S1\" and \"ABOBA\"");
+}
+
+std::string DPDIntegrator::schemeName(Scheme scheme) {
+    switch (scheme) {
+        case VV: return "VV";
+        case S1: return "S1";
+        case ABOBA: return "ABOBA";
+    }
+    std::stringstream message;
+    message << "DPDIntegrator: unknown scheme " << static_cast<int>(scheme) << "; the schemes are VV (0), S1 (1) and ABOBA (2)";
+    throw OpenMMException(message.str());
+}
+
+void DPDIntegrator::setScheme(Scheme newScheme) {
+    schemeName(newScheme); // validates
+    if (context != nullptr && newScheme != scheme)
+        throw OpenMMException("DPDIntegrator: the scheme cannot be changed once the integrator is bound to a Context");
+    scheme = newScheme;
+}
+
+void DPDIntegrator::setTemperature(double newTemperature) {
+    if (!std::isfinite(newTemperature) || newTemperature <= 0) {
+        std::stringstream message;
+        message << "DPDIntegrator: temperature = " << newTemperature << " K is out of range; it must be > 0";
+        throw OpenMMException(message.str());
+    }
+    temperature = newTemperature;
+}
+
+void DPDIntegrator::setStepSize(double size) {
+    if (!std::isfinite(size) || size <= 0) {
+        std::stringstream message;
+        message << "DPDIntegrator: step size = " << size << " ps is out of range; it must be > 0";
+        throw OpenMMException(message.str());
+    }
+    Integrator::setStepSize(size);
+}
+
+void DPDIntegrator::getTypePairParameters(int pairIndex, int& type1, int& type2, double& friction, double& cutoff) const {
+    const DPDTypePairTable::TypePair& pair = table.getTypePair(pairIndex);
+    type1 = pair.type1;
+    type2 = pair.type2;
+    friction = pair.value;
+    cutoff = pair.cutoff;
+}
+
+void DPDIntegrator::initialize(OpenMM::ContextImpl& contextRef) {
+    if (owner != nullptr && &contextRef.getOwner() != owner)
+        throw OpenMMException("DPDIntegrator: this integrator is already bound to a Context");
+    if (contextRef.getSystem().getNumConstraints() > 0)
+        throw OpenMMException("DPDIntegrator: the System has constraints, which the DPD schemes do not support");
+    context = &contextRef;
+    owner = &contextRef.getOwner();
+    kernel = context->getPlatform().createKernel(IntegrateDPDStepKernel::Name(), contextRef);
+    kernel.getAs<IntegrateDPDStepKernel>().initialize(contextRef, *this);
+}
+
+void DPDIntegrator::cleanup() {
+    kernel = OpenMM::Kernel();
+}
+
+std::vector<std::string> DPDIntegrator::getKernelNames() {
+    return {IntegrateDPDStepKernel::Name()};
+}
+
+void DPDIntegrator::stateChanged(OpenMM::State::DataType changed) {
+    if (context != nullptr)
+        kernel.getAs<IntegrateDPDStepKernel>().stateChanged(changed);
+}
+
+double DPDIntegrator::computeKineticEnergy() {
+    return kernel.getAs<IntegrateDPDStepKernel>().computeKineticEnergy(*context, *this);
+}
+
+void DPDIntegrator::step(int steps) {
+    if (context == nullptr)
+        throw OpenMMException("DPDIntegrator: step() was called before the integrator was bound to a Context");
+    IntegrateDPDStepKernel& stepKernel = kernel.getAs<IntegrateDPDStepKernel>();
+    for (int i = 0; i < steps; i++) {
+        if (context->updateContextState())
+            stepKernel.stateChanged(OpenMM::State::Positions);
+        stepKernel.execute(*context, *this);
+    }
+}
+
+void DPDIntegrator::createCheckpoint(std::ostream& stream) const {
+    kernel.getAs<const IntegrateDPDStepKernel>().createCheckpoint(stream);
+}
+
+void DPDIntegrator::loadCheckpoint(std::istream& stream) {
+    kernel.getAs<IntegrateDPDStepKernel>().loadCheckpoint(stream);
+}

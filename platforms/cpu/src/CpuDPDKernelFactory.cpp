@@ -1,0 +1,33 @@
+#include "CpuDPDKernelFactory.h"
+#include "CpuDPDPairListBuilder.h"
+#include "ReferenceCalcDPDForceKernel.h"
+#include "ReferenceIntegrateDPDStepKernel.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/cpu/CpuPlatform.h"
+#include "openmm/internal/windowsExport.h"
+
+using namespace OpenMMDPD;
+
+extern "C" OPENMM_EXPORT void registerPlatforms() {
+}
+
+extern "C" OPENMM_EXPORT void registerKernelFactories() {
+    for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++) {
+        OpenMM::Platform& platform = OpenMM::Platform::getPlatform(i);
+        if (platform.getName() == "CPU") {
+            auto* factory = new CpuDPDKernelFactory();
+            platform.registerKernelFactory(CalcDPDForceKernel::Name(), factory);
+            platform.registerKernelFactory(IntegrateDPDStepKernel::Name(), factory);
+        }
+    }
+}
+
+OpenMM::KernelImpl* CpuDPDKernelFactory::createKernelImpl(std::string name, const OpenMM::Platform& platform,
+                                                          OpenMM::ContextImpl& context) const {
+    OpenMM::ThreadPool& threads = OpenMM::CpuPlatform::getPlatformData(context).threads;
+    if (name == CalcDPDForceKernel::Name())
+        return new ReferenceCalcDPDForceKernel(name, platform, std::make_shared<CpuDPDPairListBuilder>(threads));
+    if (name == IntegrateDPDStepKernel::Name())
+        return new ReferenceIntegrateDPDStepKernel(name, platform, std::make_shared<CpuDPDPairListBuilder>(threads));
+    throw OpenMM::OpenMMException("CpuDPDKernelFactory: no kernel named '"+name+"'");
+}

@@ -1,0 +1,93 @@
+#ifndef OPENMMDPD_DPDSPLITTINGDYNAMICS_H_
+#define OPENMMDPD_DPDSPLITTINGDYNAMICS_H_
+
+#include "DPDPairList.h"
+#include "DPDPairListBuilder.h"
+#include "DPDPairRandom.h"
+#include "DPDVerletList.h"
+#include "openmm/State.h"
+#include "openmm/internal/ContextImpl.h"
+#include "openmmdpd/DPDIntegrator.h"
+#include "openmmdpd/DPDTypePairTable.h"
+#include <iosfwd>
+#include <memory>
+#include <vector>
+
+namespace OpenMMDPD {
+
+class ReferenceCalcDPDForceKernel;
+
+/**
+ * The DPD splitting schemes of Shang 2021 on the Reference and CPU platforms, written once as
+ * compositions of the elementary flows:
+ *
+ *   drift  A(dt):  q += dt v                                        (eq. 2.5a)
+ *   kick   B(dt):  v += dt F/m   with F the Context's total force   (eq. 2.5b)
+ *   O(dt): a successive sweep over the pairs closer than their dissipative cutoff, each pair's
+ *          Ornstein-Uhlenbeck process solved exactly (ABOBA, eqs. 2.14-2.17, 2.22) or by BBK (S1, eq. 2.12);
+ *   VV:    dissipative and random pair forces added to the conservative ones (eqs. 2.2, 2.3).
+ *
+ * The pair list of the O sweep is the DPDForce kernel's list from the force evaluation at the same
+ * positions when there is one with a large enough cutoff, and otherwise the integrator's own Verlet list.
+ */
+class DPDSplittingDynamics {
+public:
+    DPDSplittingDynamics(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, std::shared_ptr<DPDPairListBuilder> builder);
+
+    /** Take one step of the integrator's scheme. */
+    void step(OpenMM::ContextImpl& context, const DPDIntegrator& integrator);
+    double computeKineticEnergy(OpenMM::ContextImpl& context) const;
+    void stateChanged(OpenMM::State::DataType changed);
+    void createCheckpoint(std::ostream& stream) const;
+    void loadCheckpoint(std::istream& stream);
+
+    /** True when the O sweep reads the DPDForce's pair list (no second distance pass). */
+    bool sharesForcePairList() const { return sharedForceKernel != nullptr; }
+    /** How often the integrator's own Verlet list was rebuilt (0 when the force's list is shared). */
+    int getNumOwnPairListBuilds() const { return ownPairList ? ownPairList->getNumBuilds() : 0; }
+
+private:
+    struct ContextArrays;
+    ContextArrays arrays(OpenMM::ContextImpl& context) const;
+
+    void stepABOBA(OpenMM::ContextImpl& context, double dt);
+    void stepS1(OpenMM::ContextImpl& context, double dt);
+    void stepVV(OpenMM::ContextImpl& context, double dt);
+
+    bool drift(std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities, double dt) const;
+    bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, double dt) const;
+    /** Evaluate the Context's forces at its current positions and return the pairs at those positions. */
+    const DPDPairList& evaluateForcesAndPairs(OpenMM::ContextImpl& context);
+    /** The one pair sweep: calls visit(pair, w, gamma, invReducedMass, R) for every pair inside its dissipative cutoff. */
+    template <class Visitor>
+    void sweepDissipativePairs(const DPDPairList& pairs, Visitor&& visit);
+    void applyPairwiseOrnsteinUhlenbeck(const DPDPairList& pairs, std::vector<OpenMM::Vec3>& velocities, double dt);
+    void applyPairwiseBBK(const DPDPairList& pairs, std::vector<OpenMM::Vec3>& velocities, double dt);
+    void addDissipativeAndRandomForces(const DPDPairList& pairs, const std::vector<OpenMM::Vec3>& velocities, double dt,
+                                       std::vector<OpenMM::Vec3>& forces);
+    void throwNonFinite(OpenMM::ContextImpl& context, const char* what) const;
+
+    std::shared_ptr<DPDPairListBuilder> builder;
+    DPDIntegrator::Scheme scheme;
+    double stepSize;
+    double kT;
+    DPDTypePairTable::Compiled friction;
+    std::vector<double> inverseMasses;
+    int integrationGroups;
+    DPDPairRandom random;
+    unsigned long long sweepCounter = 0;
+
+    ReferenceCalcDPDForceKernel* sharedForceKernel = nullptr;
+    std::unique_ptr<DPDVerletList> ownPairList;
+    const DPDPairList* pairsAtCurrentPositions = nullptr;
+
+    // S1 and VV start a step with the force (and for S1 the pairs) of the previous step's end.
+    std::vector<OpenMM::Vec3> forceAtCurrentPositions;
+    bool forceAtCurrentPositionsValid = false;
+    OpenMM::Vec3 boxOfStoredForce[3];
+    bool keepStoredForceThroughStateChanges = false;
+};
+
+} // namespace OpenMMDPD
+
+#endif

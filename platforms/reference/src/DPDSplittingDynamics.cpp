@@ -1,0 +1,297 @@
+#include "DPDSplittingDynamics.h"
+#include "DPDPeriodicBox.h"
+#include "ReferenceCalcDPDForceKernel.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/reference/ReferencePlatform.h"
+#include "openmm/reference/SimTKOpenMMRealType.h"
+#include "openmmdpd/internal/DPDForceImpl.h"
+#include <algorithm>
+#include <cmath>
+#include <istream>
+#include <ostream>
+#include <random>
+#include <sstream>
+
+using namespace OpenMMDPD;
+using OpenMM::Vec3;
+
+struct DPDSplittingDynamics::ContextArrays {
+    std::vector<Vec3>& positions;
+    std::vector<Vec3>& velocities;
+    std::vector<Vec3>& forces;
+    const Vec3* box;
+    OpenMM::ReferencePlatform::PlatformData& data;
+};
+
+DPDSplittingDynamics::ContextArrays DPDSplittingDynamics::arrays(OpenMM::ContextImpl& context) const {
+    auto* data = reinterpret_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    return {*data->positions, *data->velocities, *data->forces, data->periodicBoxVectors, *data};
+}
+
+DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const DPDIntegrator& integrator,
+                                           std::shared_ptr<DPDPairListBuilder> builder)
+    : builder(std::move(builder)), scheme(integrator.getScheme()), stepSize(integrator.getStepSize()),
+      kT(BOLTZ*integrator.getTemperature()), integrationGroups(integrator.getIntegrationForceGroups()) {
+    const OpenMM::System& system = context.getSystem();
+    friction = integrator.getTable().compile(system.getNumParticles());
+    inverseMasses.resize(system.getNumParticles());
+    for (int i = 0; i < system.getNumParticles(); i++) {
+        double mass = system.getParticleMass(i);
+        inverseMasses[i] = mass == 0.0 ? 0.0 : 1.0/mass;
+    }
+    int seed = integrator.getRandomNumberSeed();
+    random = DPDPairRandom(seed != 0 ? static_cast<std::uint64_t>(seed) : std::random_device()());
+    Vec3 box[3];
+    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
+
+    // Share the DPDForce's pair list when its search radius covers every dissipative cutoff and it is
+    // evaluated with the integration force groups (checked again at every evaluation).
+    for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
+        auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
+        if (forceImpl == nullptr || (integrationGroups & (1 << forceImpl->getOwner().getForceGroup())) == 0)
+            continue;
+        auto* kernel = dynamic_cast<ReferenceCalcDPDForceKernel*>(&forceImpl->getKernel().getImpl());
+        if (kernel != nullptr && forceImpl->getOwner().getTable().compile(system.getNumParticles()).maxCutoff >= friction.maxCutoff) {
+            sharedForceKernel = kernel;
+            break;
+        }
+    }
+}
+
+bool DPDSplittingDynamics::drift(std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, double dt) const {
+    bool finite = true;
+    for (std::size_t i = 0; i < positions.size(); i++) {
+        if (inverseMasses[i] == 0.0)
+            continue;
+        positions[i] += velocities[i]*dt;
+        finite &= std::isfinite(positions[i][0]) && std::isfinite(positions[i][1]) && std::isfinite(positions[i][2]);
+    }
+    return finite;
+}
+
+bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt) const {
+    bool finite = true;
+    for (std::size_t i = 0; i < velocities.size(); i++) {
+        velocities[i] += forces[i]*(dt*inverseMasses[i]);
+        finite &= std::isfinite(velocities[i][0]) && std::isfinite(velocities[i][1]) && std::isfinite(velocities[i][2]);
+    }
+    return finite;
+}
+
+const DPDPairList& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context) {
+    long long evaluationsBefore = sharedForceKernel ? sharedForceKernel->getEvaluationCount() : 0;
+    context.calcForcesAndEnergy(true, false, integrationGroups);
+    if (friction.allValuesZero) {
+        static const DPDPairList noPairs;
+        pairsAtCurrentPositions = &noPairs; // no O sweep at zero friction, so no pair list either
+    }
+    else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore)
+        pairsAtCurrentPositions = &sharedForceKernel->getPairList();
+    else {
+        ContextArrays state = arrays(context);
+        if (!ownPairList) {
+            double halfHeight = 0.5*std::min(state.box[0][0], std::min(state.box[1][1], state.box[2][2]));
+            double skin = std::max(0.0, std::min(0.3*friction.maxCutoff, halfHeight-friction.maxCutoff));
+            ownPairList = std::make_unique<DPDVerletList>(friction.maxCutoff, skin);
+        }
+        DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, state.box);
+        pairsAtCurrentPositions = &ownPairList->update(state.positions, state.box, *builder);
+    }
+    return *pairsAtCurrentPositions;
+}
+
+template <class Visitor>
+void DPDSplittingDynamics::sweepDissipativePairs(const DPDPairList& pairs, Visitor&& visit) {
+    // Pairs are visited one after another: each update sees the velocities left by the previous
+    // ones (the successive sweep of eq. 2.10; any order is valid, Shang 2021 sec. 2.3).
+    std::uint64_t counter = sweepCounter++;
+    for (const DPDPair& pair : pairs.pairs) {
+        int ti = friction.particleTypeIndex[pair.i], tj = friction.particleTypeIndex[pair.j];
+        double cutoff = friction.cutoffOf(ti, tj);
+        double gamma = friction.valueOf(ti, tj);
+        double invReducedMass = inverseMasses[pair.i]+inverseMasses[pair.j];
+        if (pair.r >= cutoff || gamma == 0.0 || invReducedMass == 0.0)
+            continue;
+        visit(pair, 1.0-pair.r/cutoff, gamma, invReducedMass, random.normal(counter, pair.i, pair.j));
+    }
+}
+
+void DPDSplittingDynamics::applyPairwiseOrnsteinUhlenbeck(const DPDPairList& pairs, std::vector<Vec3>& velocities, double dt) {
+    sweepDissipativePairs(pairs, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
+        // m_ij dv = -gamma w^2 v dt + sigma w dW solved exactly (eqs. 2.14-2.16, 2.22), with
+        // sigma^2 = 2 gamma kT so that the noise amplitude is sqrt(kT/m_ij (1 - exp(-2 tau dt))).
+        double tau = gamma*w*w*invReducedMass;
+        double relativeVelocity = pair.unit.dot(velocities[pair.i]-velocities[pair.j]);
+        double deltaV = relativeVelocity*std::expm1(-tau*dt) + std::sqrt(-kT*invReducedMass*std::expm1(-2.0*tau*dt))*R;
+        // p_i += m_ij dv e, p_j -= m_ij dv e (eq. 2.17).
+        Vec3 deltaP = pair.unit*(deltaV/invReducedMass);
+        velocities[pair.i] += deltaP*inverseMasses[pair.i];
+        velocities[pair.j] -= deltaP*inverseMasses[pair.j];
+    });
+}
+
+void DPDSplittingDynamics::applyPairwiseBBK(const DPDPairList& pairs, std::vector<Vec3>& velocities, double dt) {
+    sweepDissipativePairs(pairs, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
+        // Eq. 2.12 for general masses: K = gamma w^2 dt/2, J = sigma w sqrt(dt) R/2; an explicit
+        // half step, then an implicit one whose denominator 1 + K/m_ij is the paper's 1 + 2K at unit mass.
+        double K = 0.5*gamma*w*w*dt;
+        double J = 0.5*std::sqrt(2.0*gamma*kT)*w*std::sqrt(dt)*R;
+        double relativeVelocity = pair.unit.dot(velocities[pair.i]-velocities[pair.j]);
+        double firstHalf = -K*relativeVelocity + J;
+        double relativeAfterFirst = relativeVelocity + firstHalf*invReducedMass;
+        double secondHalf = (J - K*relativeAfterFirst)/(1.0 + K*invReducedMass);
+        Vec3 deltaP = pair.unit*(firstHalf+secondHalf);
+        velocities[pair.i] += deltaP*inverseMasses[pair.i];
+        velocities[pair.j] -= deltaP*inverseMasses[pair.j];
+    });
+}
+
+void DPDSplittingDynamics::addDissipativeAndRandomForces(const DPDPairList& pairs, const std::vector<Vec3>& velocities, double dt,
+                                                         std::vector<Vec3>& forces) {
+    double invSqrtDt = 1.0/std::sqrt(dt);
+    sweepDissipativePairs(pairs, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
+        // F^D + dF^R/dt with dW = sqrt(dt) R (eqs. 2.2b, 2.2c).
+        double relativeVelocity = pair.unit.dot(velocities[pair.i]-velocities[pair.j]);
+        double magnitude = -gamma*w*w*relativeVelocity + std::sqrt(2.0*gamma*kT)*w*R*invSqrtDt;
+        forces[pair.i] += pair.unit*magnitude;
+        forces[pair.j] -= pair.unit*magnitude;
+    });
+}
+
+void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const char* what) const {
+    std::stringstream message;
+    message << "DPDIntegrator: non-finite " << what << " at step " << context.getStepCount()+1 << " (scheme "
+            << DPDIntegrator::schemeName(scheme) << ", step size " << stepSize
+            << " ps): the simulation is unstable; reduce the step size";
+    throw OpenMM::OpenMMException(message.str());
+}
+
+void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt) {
+    ContextArrays state = arrays(context);
+    if (!drift(state.positions, state.velocities, 0.5*dt))                     // A(dt/2), eq. 2.19
+        throwNonFinite(context, "positions");
+    const DPDPairList& pairs = evaluateForcesAndPairs(context);                 // the one force evaluation, at q^{n+1/2}
+    kick(state.velocities, state.forces, 0.5*dt);                               // B(dt/2), eq. 2.20
+    if (!friction.allValuesZero)
+        applyPairwiseOrnsteinUhlenbeck(pairs, state.velocities, dt);           // O(dt), eqs. 2.21-2.22
+    if (!kick(state.velocities, state.forces, 0.5*dt))                          // B(dt/2), eq. 2.23
+        throwNonFinite(context, "velocities");
+    if (!drift(state.positions, state.velocities, 0.5*dt))                      // A(dt/2), eq. 2.24
+        throwNonFinite(context, "positions");
+    forceAtCurrentPositionsValid = false;
+}
+
+void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
+    ContextArrays state = arrays(context);
+    if (!forceAtCurrentPositionsValid || pairsAtCurrentPositions == nullptr) {
+        evaluateForcesAndPairs(context);
+        forceAtCurrentPositions = state.forces;
+    }
+    if (!friction.allValuesZero)
+        applyPairwiseBBK(*pairsAtCurrentPositions, state.velocities, dt);       // O(dt), eq. 2.12
+    kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // B(dt/2), eq. 2.13a
+    if (!drift(state.positions, state.velocities, dt))                          // A(dt), eq. 2.13b
+        throwNonFinite(context, "positions");
+    evaluateForcesAndPairs(context);                                            // at q^{n+1}, reused next step
+    forceAtCurrentPositions = state.forces;
+    if (!kick(state.velocities, forceAtCurrentPositions, 0.5*dt))               // B(dt/2), eq. 2.13c
+        throwNonFinite(context, "velocities");
+}
+
+void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
+    ContextArrays state = arrays(context);
+    if (!forceAtCurrentPositionsValid) {
+        const DPDPairList& pairs = evaluateForcesAndPairs(context);
+        forceAtCurrentPositions = state.forces;
+        if (!friction.allValuesZero)
+            addDissipativeAndRandomForces(pairs, state.velocities, dt, forceAtCurrentPositions);
+    }
+    kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // eq. 2.3a, with the stored forces
+    if (!drift(state.positions, state.velocities, dt))                          // eq. 2.3b
+        throwNonFinite(context, "positions");
+    const DPDPairList& pairs = evaluateForcesAndPairs(context);
+    forceAtCurrentPositions = state.forces;
+    if (!friction.allValuesZero)
+        addDissipativeAndRandomForces(pairs, state.velocities, dt, forceAtCurrentPositions); // at (q^{n+1}, p^{n+1/2})
+    if (!kick(state.velocities, forceAtCurrentPositions, 0.5*dt))               // eq. 2.3c
+        throwNonFinite(context, "velocities");
+}
+
+void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) {
+    if (integrator.getStepSize() != stepSize) {
+        stepSize = integrator.getStepSize();
+        forceAtCurrentPositionsValid = false; // VV's stored random force carries 1/sqrt(dt)
+    }
+    if (BOLTZ*integrator.getTemperature() != kT)
+        kT = BOLTZ*integrator.getTemperature();
+    ContextArrays state = arrays(context);
+    for (int k = 0; k < 3; k++)
+        if (state.box[k] != boxOfStoredForce[k])
+            forceAtCurrentPositionsValid = false;
+    keepStoredForceThroughStateChanges = false;
+    if (scheme == DPDIntegrator::ABOBA)
+        stepABOBA(context, stepSize);
+    else if (scheme == DPDIntegrator::S1)
+        stepS1(context, stepSize);
+    else
+        stepVV(context, stepSize);
+    if (scheme != DPDIntegrator::ABOBA) {
+        forceAtCurrentPositionsValid = true;
+        for (int k = 0; k < 3; k++)
+            boxOfStoredForce[k] = state.box[k];
+    }
+    state.data.time += stepSize;
+    state.data.stepCount++;
+}
+
+double DPDSplittingDynamics::computeKineticEnergy(OpenMM::ContextImpl& context) const {
+    ContextArrays state = arrays(context);
+    double energy = 0.0;
+    for (std::size_t i = 0; i < state.velocities.size(); i++)
+        if (inverseMasses[i] != 0.0)
+            energy += 0.5*state.velocities[i].dot(state.velocities[i])/inverseMasses[i];
+    return energy;
+}
+
+void DPDSplittingDynamics::stateChanged(OpenMM::State::DataType changed) {
+    // Loading a checkpoint reports every kind of change right after restoring our stored forces,
+    // which belong to the restored state: keep them until the next step.
+    if (keepStoredForceThroughStateChanges)
+        return;
+    if (changed == OpenMM::State::Positions || changed == OpenMM::State::Parameters || changed == OpenMM::State::Energy) {
+        forceAtCurrentPositionsValid = false;
+        pairsAtCurrentPositions = nullptr;
+    }
+}
+
+void DPDSplittingDynamics::createCheckpoint(std::ostream& stream) const {
+    std::uint64_t seed = random.getSeed();
+    stream.write(reinterpret_cast<const char*>(&seed), sizeof(seed));
+    stream.write(reinterpret_cast<const char*>(&sweepCounter), sizeof(sweepCounter));
+    // Only VV's stored force depends on more than the positions (the velocities and random numbers
+    // of the previous step's end); S1 recomputes its stored force from the positions, bit for bit.
+    bool storeForce = scheme == DPDIntegrator::VV && forceAtCurrentPositionsValid;
+    stream.write(reinterpret_cast<const char*>(&storeForce), sizeof(storeForce));
+    if (storeForce) {
+        stream.write(reinterpret_cast<const char*>(boxOfStoredForce), sizeof(boxOfStoredForce));
+        stream.write(reinterpret_cast<const char*>(forceAtCurrentPositions.data()), sizeof(Vec3)*forceAtCurrentPositions.size());
+    }
+}
+
+void DPDSplittingDynamics::loadCheckpoint(std::istream& stream) {
+    std::uint64_t seed;
+    stream.read(reinterpret_cast<char*>(&seed), sizeof(seed));
+    random = DPDPairRandom(seed);
+    stream.read(reinterpret_cast<char*>(&sweepCounter), sizeof(sweepCounter));
+    bool storedForce;
+    stream.read(reinterpret_cast<char*>(&storedForce), sizeof(storedForce));
+    pairsAtCurrentPositions = nullptr;
+    forceAtCurrentPositionsValid = storedForce;
+    if (storedForce) {
+        stream.read(reinterpret_cast<char*>(boxOfStoredForce), sizeof(boxOfStoredForce));
+        forceAtCurrentPositions.resize(inverseMasses.size());
+        stream.read(reinterpret_cast<char*>(forceAtCurrentPositions.data()), sizeof(Vec3)*forceAtCurrentPositions.size());
+    }
+    keepStoredForceThroughStateChanges = true;
+}

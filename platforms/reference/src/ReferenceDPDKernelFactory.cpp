@@ -1,0 +1,31 @@
+#include "ReferenceDPDKernelFactory.h"
+#include "ReferenceCalcDPDForceKernel.h"
+#include "ReferenceDPDPairListBuilder.h"
+#include "ReferenceIntegrateDPDStepKernel.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/internal/windowsExport.h"
+
+using namespace OpenMMDPD;
+
+extern "C" OPENMM_EXPORT void registerPlatforms() {
+}
+
+extern "C" OPENMM_EXPORT void registerKernelFactories() {
+    for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++) {
+        OpenMM::Platform& platform = OpenMM::Platform::getPlatform(i);
+        if (platform.getName() == "Reference") {
+            auto* factory = new ReferenceDPDKernelFactory();
+            platform.registerKernelFactory(CalcDPDForceKernel::Name(), factory);
+            platform.registerKernelFactory(IntegrateDPDStepKernel::Name(), factory);
+        }
+    }
+}
+
+OpenMM::KernelImpl* ReferenceDPDKernelFactory::createKernelImpl(std::string name, const OpenMM::Platform& platform,
+                                                                OpenMM::ContextImpl& context) const {
+    if (name == CalcDPDForceKernel::Name())
+        return new ReferenceCalcDPDForceKernel(name, platform, std::make_shared<ReferenceDPDPairListBuilder>());
+    if (name == IntegrateDPDStepKernel::Name())
+        return new ReferenceIntegrateDPDStepKernel(name, platform, std::make_shared<ReferenceDPDPairListBuilder>());
+    throw OpenMM::OpenMMException("ReferenceDPDKernelFactory: no kernel named '"+name+"'");
+}

@@ -1,0 +1,27 @@
+#include "openmmdpd/DPDForceProxy.h"
+#include "openmmdpd/DPDForce.h"
+#include "openmmdpd/DPDTypePairTableSerializer.h"
+#include "openmm/OpenMMException.h"
+#include <memory>
+
+using namespace OpenMMDPD;
+
+void DPDForceProxy::serialize(const void* object, OpenMM::SerializationNode& node) const {
+    const DPDForce& force = *reinterpret_cast<const DPDForce*>(object);
+    node.setIntProperty("version", 1);
+    node.setStringProperty("name", force.getName());
+    node.setIntProperty("forceGroup", force.getForceGroup());
+    node.setDoubleProperty("a", force.getDefaultA());
+    node.setDoubleProperty("cutoff", force.getDefaultCutoff());
+    DPDTypePairTableSerializer::write(force.getTable(), "a", node);
+}
+
+void* DPDForceProxy::deserialize(const OpenMM::SerializationNode& node) const {
+    if (node.getIntProperty("version") != 1)
+        throw OpenMM::OpenMMException("DPDForceProxy: unsupported version number");
+    auto force = std::make_unique<DPDForce>(node.getDoubleProperty("a"), node.getDoubleProperty("cutoff"));
+    force->setName(node.getStringProperty("name", force->getName()));
+    force->setForceGroup(node.getIntProperty("forceGroup", 0));
+    DPDTypePairTableSerializer::read(node, "a", force->getTable());
+    return force.release();
+}
