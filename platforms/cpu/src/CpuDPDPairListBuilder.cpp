@@ -21,7 +21,7 @@ void CpuDPDPairListBuilder::build(const std::vector<Vec3>& positions, const Vec3
     int numParticles = static_cast<int>(positions.size());
     if (static_cast<int>(noExclusions.size()) != numParticles) {
         noExclusions.assign(numParticles, std::set<int>());
-        floatPositions = OpenMM::AlignedArray<float>(4*numParticles);
+        floatPositions.resize(4*numParticles); // AlignedArray has no safe assignment
     }
     for (int i = 0; i < numParticles; i++) {
         // CpuNeighborList expects positions wrapped into the box, as the CPU platform's own kernels pass them.

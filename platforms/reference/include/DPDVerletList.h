@@ -8,21 +8,25 @@
 namespace OpenMMDPD {
 
 /**
- * The integrator's own pair list, for systems whose conservative force is not a DPDForce with a
- * large enough cutoff: candidate pairs within radius + skin, rebuilt only when some particle has
- * moved more than skin/2 since the last build (or the box changed).  Between rebuilds each call
- * refreshes distances and unit vectors of the candidates and keeps those closer than the radius.
+ * A Verlet list over the platform's neighbour list: candidate pairs within radius + skin, rebuilt
+ * (with OpenMM's neighbour list, through the builder) only when some particle has moved more than
+ * skin/2 since the last build or the box changed.  Each update refreshes distances and unit
+ * vectors of the candidates, on the builder's threads, and keeps those closer than the radius.
+ * Both the DPDForce kernel and the integrator (when no DPDForce covers its cutoff) use it.
  */
 class DPDVerletList {
 public:
-    DPDVerletList(double radius, double skin) : radius(radius), skin(skin) {}
+    explicit DPDVerletList(double radius) : radius(radius) {}
     const DPDPairList& update(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* boxVectors, DPDPairListBuilder& builder);
+    const DPDPairList& getPairs() const { return current; }
+    double getRadius() const { return radius; }
     int getNumBuilds() const { return numBuilds; }
 
 private:
     bool needsRebuild(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* boxVectors) const;
-    double radius, skin;
+    double radius, skin = 0.0;
     DPDPairList candidates, current;
+    std::vector<std::vector<DPDPair> > threadPairs;
     std::vector<OpenMM::Vec3> positionsAtBuild;
     OpenMM::Vec3 boxAtBuild[3];
     int numBuilds = 0;

@@ -11,8 +11,9 @@
 namespace OpenMMDPD {
 
 /**
- * The soft DPD force on the Reference and CPU platforms: the platform's builder makes the pair
- * list (serially, or with CpuNeighborList and OpenMM's thread pool) and runs the pair loop.
+ * The soft DPD force on the Reference and CPU platforms: the platform's builder makes the pair list
+ * at every evaluation (DPD particles move a large part of the cutoff in a few steps, so a Verlet skin
+ * costs more in candidates than it saves in builds) and runs the pair loop on the platform's threads.
  * The pair list of the latest evaluation stays available to a DPDIntegrator at the same positions.
  */
 class ReferenceCalcDPDForceKernel : public CalcDPDForceKernel {

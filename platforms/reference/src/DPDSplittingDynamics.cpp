@@ -90,11 +90,8 @@ const DPDPairList& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextI
         pairsAtCurrentPositions = &sharedForceKernel->getPairList();
     else {
         ContextArrays state = arrays(context);
-        if (!ownPairList) {
-            double halfHeight = 0.5*std::min(state.box[0][0], std::min(state.box[1][1], state.box[2][2]));
-            double skin = std::max(0.0, std::min(0.3*friction.maxCutoff, halfHeight-friction.maxCutoff));
-            ownPairList = std::make_unique<DPDVerletList>(friction.maxCutoff, skin);
-        }
+        if (!ownPairList)
+            ownPairList = std::make_unique<DPDVerletList>(friction.maxCutoff);
         DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, state.box);
         pairsAtCurrentPositions = &ownPairList->update(state.positions, state.box, *builder);
     }

@@ -25,10 +25,10 @@ double ReferenceCalcDPDForceKernel::execute(OpenMM::ContextImpl& context, bool i
     const Vec3* box = data->periodicBoxVectors;
     DPDPeriodicBox::checkCutoff("DPDForce", parameters.maxCutoff, box);
     builder->build(positions, box, parameters.maxCutoff, pairList);
+    const std::vector<DPDPair>& pairs = pairList.pairs;
     evaluationCount++;
 
     // Conservative pair force F_ij = a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3).
-    const std::vector<DPDPair>& pairs = pairList.pairs;
     builder->parallelFor(pairs.size(), [&](int thread, std::size_t begin, std::size_t end) {
         std::vector<Vec3>& forces = threadForces[thread];
         std::fill(forces.begin(), forces.end(), Vec3());

@@ -15,7 +15,8 @@ public:
     explicit DPDForceImpl(const DPDForce& owner) : owner(owner) {}
     void initialize(OpenMM::ContextImpl& context) override;
     const DPDForce& getOwner() const override { return owner; }
-    void updateContextState(OpenMM::ContextImpl& context) override {}
+    /** The force has no state of its own to update, so the forces stay valid. */
+    void updateContextState(OpenMM::ContextImpl& context, bool& forcesInvalid) override {}
     double calcForcesAndEnergy(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy, int groups) override;
     std::map<std::string, double> getDefaultParameters() override { return {}; }
     std::vector<std::string> getKernelNames() override;
