@@ -1,0 +1,27 @@
+"""openmmdpd: dissipative particle dynamics for OpenMM, with the accurate splitting schemes of
+Shang (2021): velocity Verlet ("VV"), Shardlow's DPD-S1 ("S1") and ABOBA ("ABOBA").
+
+The classes ARE OpenMM objects: ``system.addForce(DPDForce())``, ``openmm.Context(system,
+DPDIntegrator(...))``, ``openmm.app.Simulation`` and ``openmm.XmlSerializer`` accept them.
+Importing the package loads the plugin's Reference and CPU kernels into OpenMM.
+"""
+
+from ._plugin import load_kernels as _load_kernels
+
+_load_kernels()
+
+from ._dpd_force import DPDForce  # noqa: E402
+from ._dpd_integrator import DPDIntegrator, SCHEMES  # noqa: E402
+from ._observables import configurational_sums, configurational_temperature, kinetic_temperature  # noqa: E402
+from ._scenes import REDUCED_TEMPERATURE, soft_fluid  # noqa: E402
+
+__all__ = [
+    "DPDForce",
+    "DPDIntegrator",
+    "SCHEMES",
+    "REDUCED_TEMPERATURE",
+    "soft_fluid",
+    "configurational_sums",
+    "configurational_temperature",
+    "kinetic_temperature",
+]
