@@ -54,6 +54,7 @@ private:
     void stepS1(OpenMM::ContextImpl& context, double dt);
     void stepVV(OpenMM::ContextImpl& context, double dt);
 
+    /** q += dt v; false if a position became non-finite or a particle moved more than half the box. */
     bool drift(std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities, double dt) const;
     bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, double dt) const;
     /** Evaluate the Context's forces at its current positions and return the pairs at those positions. */
@@ -71,6 +72,7 @@ private:
     DPDIntegrator::Scheme scheme;
     double stepSize;
     double kT;
+    double maxDisplacementPerDrift = 0.0; // half the box height
     DPDTypePairTable::Compiled friction;
     std::vector<double> inverseMasses;
     int integrationGroups;

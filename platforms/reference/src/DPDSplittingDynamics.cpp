@@ -60,14 +60,18 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
 }
 
 bool DPDSplittingDynamics::drift(std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, double dt) const {
-    bool finite = true;
+    // A finite but runaway state is caught too: no particle of a sound simulation moves half the
+    // box in one step, and past that the minimum image and the pair lists lose their meaning.
+    double limit2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
+    bool sound = true;
     for (std::size_t i = 0; i < positions.size(); i++) {
         if (inverseMasses[i] == 0.0)
             continue;
-        positions[i] += velocities[i]*dt;
-        finite &= std::isfinite(positions[i][0]) && std::isfinite(positions[i][1]) && std::isfinite(positions[i][2]);
+        Vec3 displacement = velocities[i]*dt;
+        positions[i] += displacement;
+        sound &= displacement.dot(displacement) <= limit2; // false for NaN and infinity as well
     }
-    return finite;
+    return sound;
 }
 
 bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt) const {
@@ -158,7 +162,7 @@ void DPDSplittingDynamics::addDissipativeAndRandomForces(const DPDPairList& pair
 
 void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const char* what) const {
     std::stringstream message;
-    message << "DPDIntegrator: non-finite " << what << " at step " << context.getStepCount()+1 << " (scheme "
+    message << "DPDIntegrator: non-finite or runaway " << what << " at step " << context.getStepCount()+1 << " (scheme "
             << DPDIntegrator::schemeName(scheme) << ", step size " << stepSize
             << " ps): the simulation is unstable; reduce the step size";
     throw OpenMM::OpenMMException(message.str());
@@ -223,6 +227,7 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     if (BOLTZ*integrator.getTemperature() != kT)
         kT = BOLTZ*integrator.getTemperature();
     ContextArrays state = arrays(context);
+    maxDisplacementPerDrift = 0.5*std::min(state.box[0][0], std::min(state.box[1][1], state.box[2][2]));
     for (int k = 0; k < 3; k++)
         if (state.box[k] != boxOfStoredForce[k])
             forceAtCurrentPositionsValid = false;

@@ -1,0 +1,16 @@
+"""Shared fixtures: the package under test is the built one (make puts build/python on PYTHONPATH)."""
+
+import openmm as mm
+import pytest
+
+import openmmdpd as dpd
+
+
+@pytest.fixture(params=["Reference", "CPU"])
+def platform(request) -> mm.Platform:
+    return mm.Platform.getPlatformByName(request.param)
+
+
+def small_fluid(num_particles: int = 120, seed: int = 3):
+    """A small soft fluid at the paper's density (box 3.42 nm > 2 cutoffs)."""
+    return dpd.soft_fluid(num_particles=num_particles, density=3.0, seed=seed)

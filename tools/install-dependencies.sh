@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs what the build needs and is missing: Debian's compilers, CMake and GoogleTest, then the
+# Python packages of requirements.txt.  Quiet and quick when everything is already there.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PYTHON=${PYTHON:-python3}
+
+missing=()
+command -v cmake >/dev/null || missing+=(cmake)
+command -v g++ >/dev/null || missing+=(g++)
+command -v make >/dev/null || missing+=(make)
+[ -f /usr/include/gtest/gtest.h ] || missing+=(libgtest-dev)
+if [ ${#missing[@]} -gt 0 ]; then
+    echo "Installing Debian packages: ${missing[*]}"
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}"
+fi
+
+if ! "$PYTHON" tools/check_requirements.py requirements.txt; then
+    echo "Installing Python packages from requirements.txt"
+    "$PYTHON" -m pip install -q -r requirements.txt
+fi
