@@ -65,14 +65,6 @@ void DPDIntegrator::setStepSize(double size) {
     Integrator::setStepSize(size);
 }
 
-void DPDIntegrator::getTypePairParameters(int pairIndex, int& type1, int& type2, double& friction, double& cutoff) const {
-    const DPDTypePairTable::TypePair& pair = table.getTypePair(pairIndex);
-    type1 = pair.type1;
-    type2 = pair.type2;
-    friction = pair.value;
-    cutoff = pair.cutoff;
-}
-
 void DPDIntegrator::initialize(OpenMM::ContextImpl& contextRef) {
     if (owner != nullptr && &contextRef.getOwner() != owner)
         throw OpenMMException("DPDIntegrator: this integrator is already bound to a Context");

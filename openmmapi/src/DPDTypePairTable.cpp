@@ -99,6 +99,14 @@ const DPDTypePairTable::TypePair& DPDTypePairTable::getTypePair(int pairIndex) c
     return typePairs[pairIndex];
 }
 
+void DPDTypePairTable::getTypePair(int pairIndex, int& type1, int& type2, double& value, double& cutoff) const {
+    const TypePair& pair = getTypePair(pairIndex);
+    type1 = pair.type1;
+    type2 = pair.type2;
+    value = pair.value;
+    cutoff = pair.cutoff;
+}
+
 void DPDTypePairTable::setTypePair(int pairIndex, int type1, int type2, double value, double cutoff) {
     checkPairIndex(pairIndex);
     checkType(type1, "type1");

@@ -43,7 +43,9 @@ public:
      * Override a and r_c for particles of types type1 and type2 (in either order). Returns its index.
      */
     int addTypePair(int type1, int type2, double a, double cutoff) { return table.addTypePair(type1, type2, a, cutoff); }
-    void getTypePairParameters(int pairIndex, int& type1, int& type2, double& a, double& cutoff) const;
+    void getTypePairParameters(int pairIndex, int& type1, int& type2, double& a, double& cutoff) const {
+        table.getTypePair(pairIndex, type1, type2, a, cutoff);
+    }
     void setTypePairParameters(int pairIndex, int type1, int type2, double a, double cutoff) {
         table.setTypePair(pairIndex, type1, type2, a, cutoff);
     }

@@ -62,7 +62,9 @@ public:
     const std::map<int, int>& getParticleTypes() const { return table.getParticleTypes(); }
     int getNumTypePairs() const { return table.getNumTypePairs(); }
     int addTypePair(int type1, int type2, double friction, double cutoff) { return table.addTypePair(type1, type2, friction, cutoff); }
-    void getTypePairParameters(int pairIndex, int& type1, int& type2, double& friction, double& cutoff) const;
+    void getTypePairParameters(int pairIndex, int& type1, int& type2, double& friction, double& cutoff) const {
+        table.getTypePair(pairIndex, type1, type2, friction, cutoff);
+    }
     void setTypePairParameters(int pairIndex, int type1, int type2, double friction, double cutoff) {
         table.setTypePair(pairIndex, type1, type2, friction, cutoff);
     }

@@ -49,6 +49,7 @@ public:
     int getNumTypePairs() const { return static_cast<int>(typePairs.size()); }
     int addTypePair(int type1, int type2, double value, double cutoff);
     const TypePair& getTypePair(int pairIndex) const;
+    void getTypePair(int pairIndex, int& type1, int& type2, double& value, double& cutoff) const;
     void setTypePair(int pairIndex, int type1, int type2, double value, double cutoff);
 
     /**
