@@ -1,5 +1,6 @@
 #include "openmmdpd/DPDObservables.h"
 #include "openmmdpd/DPDForce.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/CMMotionRemover.h"
 #include "openmm/State.h"
@@ -36,10 +37,7 @@ DPDObservables::ConfigurationalSums DPDObservables::configurationalSums(OpenMM::
     std::vector<std::set<int> > noExclusions(positions.size());
     OpenMM::computeNeighborListVoxelHash(neighbors, positions.size(), positions, noExclusions, box, true, parameters.maxCutoff);
     for (const OpenMM::AtomPair& pair : neighbors) {
-        Vec3 delta = positions[pair.first]-positions[pair.second];
-        delta -= box[2]*std::floor(delta[2]/box[2][2]+0.5);
-        delta -= box[1]*std::floor(delta[1]/box[1][1]+0.5);
-        delta -= box[0]*std::floor(delta[0]/box[0][0]+0.5);
+        Vec3 delta = DPDPeriodicBox::minimumImage(positions[pair.first]-positions[pair.second], box);
         double r = std::sqrt(delta.dot(delta));
         int ti = parameters.particleTypeIndex[pair.first], tj = parameters.particleTypeIndex[pair.second];
         double cutoff = parameters.cutoffOf(ti, tj);

@@ -1,5 +1,5 @@
 #include "CpuDPDPairListBuilder.h"
-#include "DPDPeriodicBox.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <atomic>
 #include <cmath>
 

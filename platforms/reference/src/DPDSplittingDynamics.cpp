@@ -1,5 +1,5 @@
 #include "DPDSplittingDynamics.h"
-#include "DPDPeriodicBox.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "ReferenceCalcDPDForceKernel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/reference/ReferencePlatform.h"

@@ -1,5 +1,5 @@
 #include "DPDVerletList.h"
-#include "DPDPeriodicBox.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <algorithm>
 #include <cmath>
 

@@ -1,5 +1,5 @@
 #include "ReferenceCalcDPDForceKernel.h"
-#include "DPDPeriodicBox.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/reference/ReferencePlatform.h"
 

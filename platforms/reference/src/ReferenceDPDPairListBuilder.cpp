@@ -1,5 +1,5 @@
 #include "ReferenceDPDPairListBuilder.h"
-#include "DPDPeriodicBox.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <cmath>
 
 using namespace OpenMMDPD;
