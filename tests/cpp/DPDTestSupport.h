@@ -1,11 +1,20 @@
 #ifndef OPENMMDPD_DPDTESTSUPPORT_H_
 #define OPENMMDPD_DPDTESTSUPPORT_H_
 
+#include "openmm/Context.h"
+#include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
+#include "openmm/State.h"
 #include "openmm/System.h"
 #include "openmm/Vec3.h"
 #include "openmmdpd/DPDForce.h"
+#include "openmmdpd/DPDIntegrator.h"
+#include "openmmdpd/DPDObservables.h"
+#include <gtest/gtest.h>
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <map>
 #include <memory>
 #include <random>
 #include <string>
@@ -24,8 +33,18 @@ inline void loadPlugins() {
     loaded = true;
 }
 
+/** Boltzmann's constant in kJ/mol/K, as OpenMM uses it (SimTKOpenMMRealType.h). */
+constexpr double kB = 0.00831446261815324;
 /** kT = 1 kJ/mol: the reduced temperature of DPD (1/k_B in K). */
-constexpr double reducedTemperature = 1.0/0.00831446261815324;
+constexpr double reducedTemperature = 1.0/kB;
+
+const std::vector<std::string> allPlatforms = {"Reference", "CPU"};
+const std::vector<std::string> allSchemes = {"VV", "S1", "ABOBA"};
+
+inline OpenMM::Platform& platform(const std::string& name) {
+    loadPlugins();
+    return OpenMM::Platform::getPlatformByName(name);
+}
 
 struct SoftFluid {
     std::unique_ptr<OpenMM::System> system;
@@ -35,9 +54,9 @@ struct SoftFluid {
 
 /**
  * The paper's soft DPD fluid (Shang 2021 sec. 3.1): unit masses, a = 25, r_c = 1, uniform random
- * positions in a cubic box of the given density.  The System owns a DPDForce.
+ * positions in a cubic box of the given density.  The System owns a DPDForce (unless withForce is false).
  */
-inline SoftFluid makeSoftFluid(int numParticles, double density, unsigned seed = 1) {
+inline SoftFluid makeSoftFluid(int numParticles, double density, unsigned seed = 1, bool withForce = true) {
     SoftFluid fluid;
     fluid.system = std::make_unique<OpenMM::System>();
     fluid.boxLength = std::cbrt(numParticles/density);
@@ -49,8 +68,261 @@ inline SoftFluid makeSoftFluid(int numParticles, double density, unsigned seed =
         fluid.system->addParticle(1.0);
         fluid.positions.emplace_back(uniform(engine), uniform(engine), uniform(engine));
     }
-    fluid.system->addForce(new OpenMMDPD::DPDForce(25.0, 1.0));
+    if (withForce)
+        fluid.system->addForce(new OpenMMDPD::DPDForce(25.0, 1.0));
     return fluid;
+}
+
+/** A Context on the named platform, positions set and Maxwell velocities at kT = 1 drawn with a fixed seed. */
+inline std::unique_ptr<OpenMM::Context> makeContext(const SoftFluid& fluid, OpenMM::Integrator& integrator, const std::string& platformName,
+                                                    int velocitySeed = 3) {
+    auto context = std::make_unique<OpenMM::Context>(*fluid.system, integrator, platform(platformName));
+    context->setPositions(fluid.positions);
+    context->setVelocitiesToTemperature(reducedTemperature, velocitySeed);
+    return context;
+}
+
+/** The mean of a series and its standard error, estimated from the scatter of `numBlocks` block means. */
+struct BlockEstimate {
+    double mean = 0.0;
+    double standardError = 0.0;
+};
+
+inline BlockEstimate blockAverage(const std::vector<double>& samples, int numBlocks = 20) {
+    BlockEstimate estimate;
+    int blockSize = static_cast<int>(samples.size())/numBlocks;
+    std::vector<double> means(numBlocks, 0.0);
+    for (int b = 0; b < numBlocks; b++) {
+        for (int k = 0; k < blockSize; k++)
+            means[b] += samples[b*blockSize+k];
+        means[b] /= blockSize;
+    }
+    for (double m : means)
+        estimate.mean += m/numBlocks;
+    double variance = 0.0;
+    for (double m : means)
+        variance += (m-estimate.mean)*(m-estimate.mean);
+    variance /= numBlocks-1;
+    estimate.standardError = std::sqrt(variance/numBlocks);
+    return estimate;
+}
+
+/**
+ * A ratio of means <x>/<y> (the configurational temperature is <|grad U|^2>/<lap U>, eq. 3.1) and its
+ * standard error from the scatter of the block ratios.
+ */
+inline BlockEstimate blockRatio(const std::vector<double>& x, const std::vector<double>& y, int numBlocks = 20) {
+    BlockEstimate estimate;
+    int blockSize = static_cast<int>(x.size())/numBlocks;
+    double sumX = 0.0, sumY = 0.0;
+    std::vector<double> ratios(numBlocks);
+    for (int b = 0; b < numBlocks; b++) {
+        double bx = 0.0, by = 0.0;
+        for (int k = 0; k < blockSize; k++) {
+            bx += x[b*blockSize+k];
+            by += y[b*blockSize+k];
+        }
+        ratios[b] = bx/by;
+        sumX += bx;
+        sumY += by;
+    }
+    estimate.mean = sumX/sumY;
+    double variance = 0.0;
+    for (double r : ratios)
+        variance += (r-estimate.mean)*(r-estimate.mean);
+    variance /= numBlocks-1;
+    estimate.standardError = std::sqrt(variance/numBlocks);
+    return estimate;
+}
+
+/**
+ * The soft fluid brought close to equilibrium at kT = 1: `steps` ABOBA steps (gamma = 4.5, dt = 0.05,
+ * fixed seeds) on the CPU platform from the uniform random start, whose overlapping particles carry
+ * a large excess potential energy.  Statistical tests start from here so that their samples are not
+ * biased by the relaxation from the random start.
+ */
+struct EquilibratedFluid {
+    SoftFluid fluid;
+    std::vector<OpenMM::Vec3> velocities;
+};
+
+inline EquilibratedFluid equilibratedSoftFluid(int numParticles, double density = 3.0, int steps = 300, unsigned seed = 1) {
+    EquilibratedFluid result;
+    result.fluid = makeSoftFluid(numParticles, density, seed);
+    OpenMMDPD::DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.05, OpenMMDPD::DPDIntegrator::ABOBA);
+    integrator.setRandomNumberSeed(static_cast<int>(seed)+1000);
+    OpenMM::Context context(*result.fluid.system, integrator, platform("CPU"));
+    context.setPositions(result.fluid.positions);
+    context.setVelocitiesToTemperature(reducedTemperature, static_cast<int>(seed)+2000);
+    integrator.step(steps);
+    OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Velocities);
+    result.fluid.positions = state.getPositions();
+    result.velocities = state.getVelocities();
+    return result;
+}
+
+/** A Context on the named platform started from an equilibrated fluid's positions and velocities. */
+inline std::unique_ptr<OpenMM::Context> makeContext(const EquilibratedFluid& start, OpenMM::Integrator& integrator,
+                                                    const std::string& platformName) {
+    auto context = std::make_unique<OpenMM::Context>(*start.fluid.system, integrator, platform(platformName));
+    context->setPositions(start.fluid.positions);
+    context->setVelocities(start.velocities);
+    return context;
+}
+
+/**
+ * Temperatures sampled along a run: every `stepsPerSample` steps, the kinetic temperature
+ * (DPDObservables, in units of the target kT) and, if asked for, the two sums of the
+ * configurational temperature (eq. 3.1) at the positions the Context holds after the step.
+ */
+struct TemperatureSamples {
+    std::vector<double> kinetic, gradientSquared, laplacian;
+    BlockEstimate kineticEstimate() const { return blockAverage(kinetic); }
+    /** k_B T_conf / kT = <sum |grad U|^2> / <sum lap U> / kT: the ratio of the MEANS, with its block error. */
+    BlockEstimate configurationalEstimate(double kT = 1.0) const {
+        BlockEstimate e = blockRatio(gradientSquared, laplacian);
+        e.mean /= kT;
+        e.standardError /= kT;
+        return e;
+    }
+};
+
+inline TemperatureSamples sampleTemperatures(OpenMM::Context& context, OpenMM::Integrator& integrator, int numSamples,
+                                             int stepsPerSample, bool configurational) {
+    TemperatureSamples samples;
+    for (int k = 0; k < numSamples; k++) {
+        integrator.step(stepsPerSample);
+        samples.kinetic.push_back(OpenMMDPD::DPDObservables::kineticTemperature(context)/reducedTemperature);
+        if (configurational) {
+            OpenMMDPD::DPDObservables::ConfigurationalSums sums = OpenMMDPD::DPDObservables::configurationalSums(context);
+            samples.gradientSquared.push_back(sums.gradientSquared);
+            samples.laplacian.push_back(sums.laplacian);
+        }
+    }
+    return samples;
+}
+
+/** Positions and velocities of a Context, for bitwise comparisons of trajectories. */
+struct Snapshot {
+    std::vector<OpenMM::Vec3> positions, velocities;
+};
+
+inline Snapshot snapshot(OpenMM::Context& context) {
+    OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Velocities);
+    return {state.getPositions(), state.getVelocities()};
+}
+
+/** True when both vectors hold exactly the same bits (NaN-free data assumed). */
+inline bool bitIdentical(const std::vector<OpenMM::Vec3>& a, const std::vector<OpenMM::Vec3>& b) {
+    if (a.size() != b.size())
+        return false;
+    for (std::size_t i = 0; i < a.size(); i++)
+        for (int k = 0; k < 3; k++)
+            if (a[i][k] != b[i][k])
+                return false;
+    return true;
+}
+
+inline bool bitIdentical(const Snapshot& a, const Snapshot& b) {
+    return bitIdentical(a.positions, b.positions) && bitIdentical(a.velocities, b.velocities);
+}
+
+inline double maxAbsDifference(const std::vector<OpenMM::Vec3>& a, const std::vector<OpenMM::Vec3>& b) {
+    double result = 0.0;
+    for (std::size_t i = 0; i < a.size(); i++)
+        for (int k = 0; k < 3; k++)
+            result = std::max(result, std::fabs(a[i][k]-b[i][k]));
+    return result;
+}
+
+inline double maxNorm(const std::vector<OpenMM::Vec3>& a) {
+    double result = 0.0;
+    for (const OpenMM::Vec3& v : a)
+        result = std::max(result, std::sqrt(v.dot(v)));
+    return result;
+}
+
+/** Sum of m v over the System's particles. */
+inline OpenMM::Vec3 totalMomentum(const OpenMM::System& system, const std::vector<OpenMM::Vec3>& velocities) {
+    OpenMM::Vec3 sum;
+    for (int i = 0; i < system.getNumParticles(); i++)
+        sum += velocities[i]*system.getParticleMass(i);
+    return sum;
+}
+
+/**
+ * A brute-force evaluation of the DPD conservative force (Shang 2021 eqs. 1.2-1.3),
+ * F_ij = a_ij (1 - r/rc_ij) e_ij and U = sum a_ij rc_ij/2 (1 - r/rc_ij)^2, summed over EVERY periodic
+ * image within the cutoff (images -2..2 along each box vector), which is the exact periodic sum in a
+ * cubic or triclinic box whatever convention the plugin uses for the minimum image, for
+ * positions anywhere (wrapped or not).  It also returns
+ * the two sums of the configurational temperature (eq. 3.1): sum |F_i|^2 and sum_i lap_i U.
+ */
+struct BruteForceResult {
+    double energy = 0.0;
+    std::vector<OpenMM::Vec3> forces;
+    double gradientSquared = 0.0;
+    double laplacian = 0.0;
+};
+
+/** Pair parameters by particle index: a and rc. */
+using PairParameters = std::function<void(int i, int j, double& a, double& cutoff)>;
+
+inline PairParameters uniformParameters(double a, double cutoff) {
+    return [a, cutoff](int, int, double& aOut, double& cutoffOut) { aOut = a; cutoffOut = cutoff; };
+}
+
+inline BruteForceResult bruteForceDPD(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, const PairParameters& parameters) {
+    BruteForceResult result;
+    int n = static_cast<int>(positions.size());
+    result.forces.assign(n, OpenMM::Vec3());
+    for (int i = 0; i < n; i++)
+        for (int j = i+1; j < n; j++) {
+            double a, cutoff;
+            parameters(i, j, a, cutoff);
+            // Reduce the displacement into the box first (positions need not be wrapped), then sum
+            // over the neighbouring images.
+            OpenMM::Vec3 base = positions[i]-positions[j];
+            base -= box[2]*std::round(base[2]/box[2][2]);
+            base -= box[1]*std::round(base[1]/box[1][1]);
+            base -= box[0]*std::round(base[0]/box[0][0]);
+            for (int nx = -2; nx <= 2; nx++)
+                for (int ny = -2; ny <= 2; ny++)
+                    for (int nz = -2; nz <= 2; nz++) {
+                        OpenMM::Vec3 delta = base+box[0]*nx+box[1]*ny+box[2]*nz;
+                        double r = std::sqrt(delta.dot(delta));
+                        if (r >= cutoff || r == 0.0)
+                            continue;
+                        double w = 1.0-r/cutoff;
+                        OpenMM::Vec3 force = delta*(a*w/r);
+                        result.forces[i] += force;
+                        result.forces[j] -= force;
+                        result.energy += 0.5*a*cutoff*w*w;
+                        result.laplacian += 2.0*a*(1.0/cutoff-2.0*w/r);
+                    }
+        }
+    for (const OpenMM::Vec3& f : result.forces)
+        result.gradientSquared += f.dot(f);
+    return result;
+}
+
+/** Expect that `statement` throws an OpenMMException whose message contains every one of `fragments`. */
+template <class Statement>
+::testing::AssertionResult throwsMentioning(Statement&& statement, const std::vector<std::string>& fragments) {
+    try {
+        statement();
+    }
+    catch (const OpenMM::OpenMMException& e) {
+        std::string message = e.what();
+        for (const std::string& fragment : fragments)
+            if (message.find(fragment) == std::string::npos)
+                return ::testing::AssertionFailure() << "the message \"" << message << "\" does not mention \"" << fragment << "\"";
+        return ::testing::AssertionSuccess();
+    }
+    catch (const std::exception& e) {
+        return ::testing::AssertionFailure() << "threw a non-OpenMM exception: " << e.what();
+    }
+    return ::testing::AssertionFailure() << "did not throw";
 }
 
 } // namespace OpenMMDPDTest
