@@ -12,7 +12,14 @@ _load_kernels()
 
 from ._dpd_force import DPDForce  # noqa: E402
 from ._dpd_integrator import DPDIntegrator, SCHEMES  # noqa: E402
-from ._observables import configurational_sums, configurational_temperature, kinetic_temperature  # noqa: E402
+from ._observables import (  # noqa: E402
+    configurational_sums,
+    configurational_temperature,
+    kinetic_temperature,
+    pair_distance_histogram,
+    radial_distribution,
+    virial_pressure,
+)
 from ._scenes import REDUCED_TEMPERATURE, soft_fluid  # noqa: E402
 
 __all__ = [
@@ -24,4 +31,7 @@ __all__ = [
     "configurational_sums",
     "configurational_temperature",
     "kinetic_temperature",
+    "virial_pressure",
+    "pair_distance_histogram",
+    "radial_distribution",
 ]
