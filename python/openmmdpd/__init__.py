@@ -20,7 +20,7 @@ from ._observables import (  # noqa: E402
     radial_distribution,
     virial_pressure,
 )
-from ._scenes import REDUCED_TEMPERATURE, soft_fluid  # noqa: E402
+from ._scenes import REDUCED_TEMPERATURE, lj_fluid, soft_fluid  # noqa: E402
 
 __all__ = [
     "DPDForce",
@@ -28,6 +28,7 @@ __all__ = [
     "SCHEMES",
     "REDUCED_TEMPERATURE",
     "soft_fluid",
+    "lj_fluid",
     "configurational_sums",
     "configurational_temperature",
     "kinetic_temperature",
