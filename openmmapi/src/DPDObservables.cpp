@@ -1,51 +1,57 @@
 #include "openmmdpd/DPDObservables.h"
-#include "openmmdpd/DPDForce.h"
+#include "openmmdpd/internal/DPDPairPotentialTerms.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/OpenMMException.h"
-#include "openmm/CMMotionRemover.h"
 #include "openmm/State.h"
 #include "openmm/System.h"
 #include "openmm/reference/ReferenceNeighborList.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include <cmath>
+#include <functional>
 #include <set>
+#include <sstream>
 
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
 
-DPDObservables::ConfigurationalSums DPDObservables::configurationalSums(OpenMM::Context& context) {
-    const OpenMM::System& system = context.getSystem();
-    const DPDForce* dpdForce = nullptr;
-    for (int i = 0; i < system.getNumForces(); i++) {
-        const OpenMM::Force& force = system.getForce(i);
-        if (auto* candidate = dynamic_cast<const DPDForce*>(&force))
-            dpdForce = candidate;
-        else if (dynamic_cast<const OpenMM::CMMotionRemover*>(&force) == nullptr)
-            throw OpenMM::OpenMMException("DPDObservables: the configurational temperature needs a System whose only potential is a DPDForce");
-    }
-    if (dpdForce == nullptr)
-        throw OpenMM::OpenMMException("DPDObservables: the configurational temperature needs a DPDForce in the System");
-    OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Forces, true);
-    ConfigurationalSums sums{0.0, 0.0};
-    for (const Vec3& force : state.getForces())
-        sums.gradientSquared += force.dot(force);
-    DPDTypePairTable::Compiled parameters = dpdForce->getTable().compile(system.getNumParticles());
+namespace {
+
+/** Calls visit(i, j, r) for every pair closer than maxDistance in the state's periodic box. */
+void forEachPairWithin(const OpenMM::State& state, double maxDistance, const std::function<void(int, int, double)>& visit) {
     Vec3 box[3];
     state.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    DPDPeriodicBox::checkCutoff("DPDObservables", maxDistance, box);
     const std::vector<Vec3>& positions = state.getPositions();
     OpenMM::NeighborList neighbors;
     std::vector<std::set<int> > noExclusions(positions.size());
-    OpenMM::computeNeighborListVoxelHash(neighbors, positions.size(), positions, noExclusions, box, true, parameters.maxCutoff);
+    OpenMM::computeNeighborListVoxelHash(neighbors, positions.size(), positions, noExclusions, box, true, maxDistance);
     for (const OpenMM::AtomPair& pair : neighbors) {
         Vec3 delta = DPDPeriodicBox::minimumImage(positions[pair.first]-positions[pair.second], box);
         double r = std::sqrt(delta.dot(delta));
-        int ti = parameters.particleTypeIndex[pair.first], tj = parameters.particleTypeIndex[pair.second];
-        double cutoff = parameters.cutoffOf(ti, tj);
-        if (r >= cutoff || r == 0.0)
-            continue;
-        double a = parameters.valueOf(ti, tj);
-        sums.laplacian += 2.0*a*(1.0/cutoff - 2.0*(1.0-r/cutoff)/r);
+        if (r < maxDistance && r > 0.0)
+            visit(pair.first, pair.second, r);
     }
+}
+
+double volume(const OpenMM::State& state) {
+    Vec3 a, b, c;
+    state.getPeriodicBoxVectors(a, b, c);
+    return a[0]*b[1]*c[2];
+}
+
+} // namespace
+
+DPDObservables::ConfigurationalSums DPDObservables::configurationalSums(OpenMM::Context& context) {
+    DPDPairPotentialTerms potential(context.getSystem());
+    OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Forces);
+    ConfigurationalSums sums{0.0, 0.0};
+    for (const Vec3& force : state.getForces())
+        sums.gradientSquared += force.dot(force);
+    forEachPairWithin(state, potential.getMaxCutoff(), [&](int i, int j, double r) {
+        double first = 0.0, second = 0.0;
+        potential.addDerivatives(i, j, r, first, second);
+        sums.laplacian += 2.0*(second + 2.0*first/r); // lap_i u + lap_j u, u'' + (d-1) u'/r in d = 3
+    });
     return sums;
 }
 
@@ -62,4 +68,31 @@ double DPDObservables::kineticTemperature(OpenMM::Context& context) {
             movingParticles++;
     double kineticEnergy = context.getState(OpenMM::State::Energy).getKineticEnergy();
     return 2.0*kineticEnergy/(BOLTZ*(3*movingParticles-3));
+}
+
+double DPDObservables::virialPressure(OpenMM::Context& context) {
+    DPDPairPotentialTerms potential(context.getSystem());
+    OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Energy);
+    double virial = 0.0; // sum over pairs of r . F_ij = -r u'(r)
+    forEachPairWithin(state, potential.getMaxCutoff(), [&](int i, int j, double r) {
+        double first = 0.0, second = 0.0;
+        potential.addDerivatives(i, j, r, first, second);
+        virial -= r*first;
+    });
+    return (2.0*state.getKineticEnergy() + virial)/(3.0*volume(state));
+}
+
+std::vector<double> DPDObservables::pairDistanceHistogram(OpenMM::Context& context, double maxDistance, int numBins) {
+    if (!(maxDistance > 0) || numBins < 1) {
+        std::stringstream message;
+        message << "DPDObservables: pairDistanceHistogram needs maxDistance > 0 (got " << maxDistance << ") and numBins >= 1 (got "
+                << numBins << ")";
+        throw OpenMM::OpenMMException(message.str());
+    }
+    OpenMM::State state = context.getState(OpenMM::State::Positions);
+    std::vector<double> counts(numBins, 0.0);
+    forEachPairWithin(state, maxDistance, [&](int i, int j, double r) {
+        counts[std::min(numBins-1, static_cast<int>(r/maxDistance*numBins))] += 1.0;
+    });
+    return counts;
 }

@@ -12,8 +12,15 @@ _load_kernels()
 
 from ._dpd_force import DPDForce  # noqa: E402
 from ._dpd_integrator import DPDIntegrator, SCHEMES  # noqa: E402
-from ._observables import configurational_sums, configurational_temperature, kinetic_temperature  # noqa: E402
-from ._scenes import REDUCED_TEMPERATURE, soft_fluid  # noqa: E402
+from ._observables import (  # noqa: E402
+    configurational_sums,
+    configurational_temperature,
+    kinetic_temperature,
+    pair_distance_histogram,
+    radial_distribution,
+    virial_pressure,
+)
+from ._scenes import REDUCED_TEMPERATURE, lj_fluid, soft_fluid  # noqa: E402
 
 __all__ = [
     "DPDForce",
@@ -21,7 +28,11 @@ __all__ = [
     "SCHEMES",
     "REDUCED_TEMPERATURE",
     "soft_fluid",
+    "lj_fluid",
     "configurational_sums",
     "configurational_temperature",
     "kinetic_temperature",
+    "virial_pressure",
+    "pair_distance_histogram",
+    "radial_distribution",
 ]

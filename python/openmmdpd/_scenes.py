@@ -31,3 +31,36 @@ def soft_fluid(num_particles: int = 500, density: float = 3.0, a: float = 25.0, 
     system.addForce(DPDForce(a, cutoff))
     positions = np.random.default_rng(seed).uniform(0.0, box, size=(num_particles, 3))
     return system, positions * unit.nanometer
+
+
+def lj_fluid(num_particles: int = 500, density: float = 0.85, epsilon: float = 1.0, sigma: float = 1.0,
+             cutoff: float = 2.5) -> Tuple[openmm.System, unit.Quantity]:
+    """The Lennard-Jones DPD fluid of Wu & Shang sec. 4.1: unit masses, the C1-truncated LJ potential
+    phi(r) = u(r) - u(r_c) - u'(r_c)(r - r_c) for r < r_c (eqs. 72-74) as an OpenMM
+    CustomNonbondedForce, a cubic periodic box at the given density, particles on a cubic lattice
+    with equal spacing.  Returns (system, positions in nm)."""
+    if num_particles < 2:
+        raise ValueError(f"num_particles = {num_particles} is out of range; it must be >= 2")
+    box = (num_particles / density) ** (1.0 / 3.0)
+    if not 0 < cutoff <= box / 2:
+        raise ValueError(f"cutoff = {cutoff} is out of range; it must be in (0, {box / 2:.4g}] (half the box)")
+    system = openmm.System()
+    system.setDefaultPeriodicBoxVectors(openmm.Vec3(box, 0, 0), openmm.Vec3(0, box, 0), openmm.Vec3(0, 0, box))
+    for _ in range(num_particles):
+        system.addParticle(1.0)
+    u_cut = 4 * epsilon * ((sigma / cutoff) ** 12 - (sigma / cutoff) ** 6)
+    du_cut = 4 * epsilon * (-12 * sigma**12 / cutoff**13 + 6 * sigma**6 / cutoff**7)
+    force = openmm.CustomNonbondedForce(
+        "4*epsilon*((sigma/r)^12-(sigma/r)^6) - ucut - ducut*(r-rc)")
+    for name, value in (("epsilon", epsilon), ("sigma", sigma), ("ucut", u_cut), ("ducut", du_cut), ("rc", cutoff)):
+        force.addGlobalParameter(name, value)
+    force.setNonbondedMethod(openmm.CustomNonbondedForce.CutoffPeriodic)
+    force.setCutoffDistance(cutoff)
+    for _ in range(num_particles):
+        force.addParticle([])
+    system.addForce(force)
+    per_side = int(np.ceil(num_particles ** (1.0 / 3.0) - 1e-9))
+    spacing = box / per_side
+    sites = np.array([(i, j, k) for i in range(per_side) for j in range(per_side) for k in range(per_side)], dtype=float)
+    positions = (sites[:num_particles] + 0.5) * spacing
+    return system, positions * unit.nanometer

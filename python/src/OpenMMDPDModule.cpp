@@ -11,6 +11,7 @@
 #include <nanobind/stl/map.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
 
 namespace nb = nanobind;
 using namespace OpenMMDPD;
@@ -109,5 +110,9 @@ NB_MODULE(_openmmdpd, m) {
         return std::make_tuple(sums.gradientSquared, sums.laplacian);
     });
     m.def("configurational_temperature", [](nb::handle context) { return DPDObservables::configurationalTemperature(contextOf(context)); });
+    m.def("virial_pressure", [](nb::handle context) { return DPDObservables::virialPressure(contextOf(context)); });
+    m.def("pair_distance_histogram", [](nb::handle context, double maxDistance, int numBins) {
+        return DPDObservables::pairDistanceHistogram(contextOf(context), maxDistance, numBins);
+    });
     m.def("kinetic_temperature", [](nb::handle context) { return DPDObservables::kineticTemperature(contextOf(context)); });
 }

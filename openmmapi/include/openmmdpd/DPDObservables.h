@@ -2,12 +2,15 @@
 #define OPENMMDPD_DPDOBSERVABLES_H_
 
 #include "openmm/Context.h"
+#include <vector>
 
 namespace OpenMMDPD {
 
 /**
- * Equilibrium observables of a DPD Context, measured at the positions the Context holds (q^{n+1}
- * after a step: each call evaluates the forces there).
+ * Equilibrium observables of a Context, measured at the positions it holds (q^{n+1} after a step;
+ * each call that needs forces evaluates them there).  The pair potential may be a DPDForce or an
+ * isotropic CustomNonbondedForce (e.g. the C1-truncated Lennard-Jones of Wu & Shang, eqs. 72-74);
+ * see DPDPairPotentialTerms.
  */
 class DPDObservables {
 public:
@@ -17,16 +20,26 @@ public:
         double laplacian;       // sum_i lap_i U       (kJ/mol/nm^2)
     };
     /**
-     * The sums of eq. 3.1 with the analytic Laplacian of the DPD potential: for each pair inside its
-     * cutoff, U = a r_c/2 (1 - r/r_c)^2 contributes 2 (U'' + 2 U'/r) = 2 a (1/r_c - 2 (1 - r/r_c)/r).
-     * The System's potential must be a DPDForce alone (the Laplacian of other forces is not known).
-     * k_B T_conf = <gradientSquared> / <laplacian> over a run.
+     * The sums of eq. 3.1: |grad U|^2 from the Context's forces, and the analytic Laplacian, to which
+     * each pair inside its cutoff contributes 2 (u'' + 2 u'/r).  k_B T_conf = <gradientSquared> / <laplacian>
+     * over a run.
      */
     static ConfigurationalSums configurationalSums(OpenMM::Context& context);
     /** k_B T_conf / k_B (K) of one configuration. */
     static double configurationalTemperature(OpenMM::Context& context);
     /** 2 KE / (k_B (3N - 3)) (K): momentum is conserved, so 3 degrees of freedom are not thermalized. */
     static double kineticTemperature(OpenMM::Context& context);
+    /**
+     * The pressure (kJ/mol/nm^3) from the virial: (2 KE/3 - 1/3 sum_pairs r u'(r)) / V.  In DPD's
+     * reduced units (kT = 1 kJ/mol, nm) it is the reduced pressure.
+     */
+    static double virialPressure(OpenMM::Context& context);
+    /**
+     * Pair counts in numBins equal bins of distance over [0, maxDistance) (maxDistance at most half the
+     * box): the raw histogram of the radial distribution function g(r); normalize by the ideal-gas
+     * count N (N-1)/2 * 4 pi r^2 dr / V.
+     */
+    static std::vector<double> pairDistanceHistogram(OpenMM::Context& context, double maxDistance, int numBins);
 };
 
 } // namespace OpenMMDPD

@@ -90,7 +90,8 @@ const DPDPairList& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextI
         static const DPDPairList noPairs;
         pairsAtCurrentPositions = &noPairs; // no O sweep at zero friction, so no pair list either
     }
-    else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore)
+    else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore &&
+             sharedForceKernel->getPairList().radius >= friction.maxCutoff) // its cutoff may have changed since
         pairsAtCurrentPositions = &sharedForceKernel->getPairList();
     else {
         ContextArrays state = arrays(context);

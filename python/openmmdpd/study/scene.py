@@ -1,0 +1,111 @@
+"""Scene files (TOML): the system, the methods, the step sizes, the observables and the budgets."""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict, List, Tuple
+
+import numpy as np
+import openmm as mm
+
+import openmmdpd as dpd
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+#: Methods a scene may name: the plugin's schemes with the scene's own conservative force, ABOBA with
+#: the soft force written as an OpenMM CustomNonbondedForce, and OpenMM's built-in DPDIntegrator.
+METHODS = ("VV", "S1", "ABOBA", "ABOBA-CustomNonbonded", "OpenMM-DPD")
+OBSERVABLES = ("configurational_temperature", "kinetic_temperature", "rdf", "pressure")
+
+
+@dataclass
+class Budget:
+    time: float             # simulated time units per run
+    runs: int               # independent runs per (method, step size)
+    discard: float          # fraction of each run discarded as equilibration
+    sample_interval: float  # time units between samples
+    stepsize_growth: float  # factor between successive step sizes
+
+
+@dataclass
+class Scene:
+    name: str
+    title: str
+    system: Dict[str, float]
+    friction: float
+    dissipative_cutoff: float
+    methods: List[str]
+    stepsizes: Tuple[float, float]        # first and last
+    timing_stepsize: float
+    observables: List[str]
+    rdf_max_distance: float
+    rdf_bins: int
+    budgets: Dict[str, Budget] = field(default_factory=dict)
+
+    def stepsize_grid(self, budget: Budget) -> np.ndarray:
+        first, last = self.stepsizes
+        count = int(np.floor(np.log(last / first) / np.log(budget.stepsize_growth) + 1e-9)) + 1
+        return first * budget.stepsize_growth ** np.arange(count)
+
+    def build(self, method: str, seed: int) -> Tuple[mm.System, np.ndarray, mm.Integrator]:
+        """The System (with the conservative force the method uses), positions and integrator."""
+        kind = self.system["kind"]
+        if kind == "soft_fluid":
+            system, positions = dpd.soft_fluid(int(self.system["num_particles"]), self.system["density"],
+                                               self.system["a"], self.system["cutoff"], seed=seed)
+            if method in ("ABOBA-CustomNonbonded", "OpenMM-DPD"):
+                replace_with_custom_soft_force(system, self.system["a"], self.system["cutoff"])
+        elif kind == "lj_fluid":
+            system, positions = dpd.lj_fluid(int(self.system["num_particles"]), self.system["density"],
+                                             cutoff=self.system["cutoff"])
+        else:
+            raise ValueError(f"scene {self.name}: unknown system kind {kind!r} (soft_fluid or lj_fluid)")
+        return system, positions, self.integrator(method, self.timing_stepsize, seed)
+
+    def integrator(self, method: str, step_size: float, seed: int) -> mm.Integrator:
+        if method == "OpenMM-DPD":
+            integrator = mm.DPDIntegrator(dpd.REDUCED_TEMPERATURE, self.friction, self.dissipative_cutoff, step_size)
+        else:
+            scheme = "ABOBA" if method == "ABOBA-CustomNonbonded" else method
+            integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, self.friction, self.dissipative_cutoff, step_size, scheme)
+        integrator.setRandomNumberSeed(seed)
+        return integrator
+
+
+def replace_with_custom_soft_force(system: mm.System, a: float, cutoff: float) -> None:
+    """Swap the DPDForce for the same potential (eq. 1.3) as an OpenMM CustomNonbondedForce."""
+    system.removeForce(0)
+    force = mm.CustomNonbondedForce("0.5*a*rc*(1-r/rc)^2")
+    force.addGlobalParameter("a", a)
+    force.addGlobalParameter("rc", cutoff)
+    force.setNonbondedMethod(mm.CustomNonbondedForce.CutoffPeriodic)
+    force.setCutoffDistance(cutoff)
+    for _ in range(system.getNumParticles()):
+        force.addParticle([])
+    system.addForce(force)
+
+
+def load_scene(path: Path) -> Scene:
+    with open(path, "rb") as file:
+        data = tomllib.load(file)
+    methods = list(data["dynamics"]["methods"])
+    for method in methods:
+        if method not in METHODS:
+            raise ValueError(f"{path}: unknown method {method!r}; the methods are {', '.join(METHODS)}")
+    observables = list(data["observables"]["measure"])
+    for observable in observables:
+        if observable not in OBSERVABLES:
+            raise ValueError(f"{path}: unknown observable {observable!r}; the observables are {', '.join(OBSERVABLES)}")
+    budgets = {name: Budget(**values) for name, values in data["budget"].items()}
+    return Scene(
+        name=data["name"], title=data["title"], system=dict(data["system"]),
+        friction=float(data["dynamics"]["friction"]), dissipative_cutoff=float(data["dynamics"]["dissipative_cutoff"]),
+        methods=methods, stepsizes=(float(data["stepsizes"]["first"]), float(data["stepsizes"]["last"])),
+        timing_stepsize=float(data["stepsizes"]["timing"]), observables=observables,
+        rdf_max_distance=float(data["observables"].get("rdf_max_distance", 1.5)),
+        rdf_bins=int(data["observables"].get("rdf_bins", 45)), budgets=budgets)

@@ -1,0 +1,100 @@
+"""One run of one method over the step sizes of a scene: samples of the observables, or 'unstable'."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import List, Optional
+
+import numpy as np
+import openmm as mm
+
+import openmmdpd as dpd
+
+from .scene import Budget, Scene
+
+
+@dataclass
+class RunResult:
+    scene: str
+    method: str
+    step_size: float
+    run: int
+    unstable: bool = False
+    message: str = ""
+    gradient_squared: List[float] = field(default_factory=list)
+    laplacian: List[float] = field(default_factory=list)
+    kinetic: List[float] = field(default_factory=list)
+    pressure: List[float] = field(default_factory=list)
+    rdf_histogram: Optional[List[float]] = None
+    rdf_samples: int = 0
+
+
+def platform_properties(threads: int) -> dict:
+    return {"Threads": str(threads)}
+
+
+def run_one(scene: Scene, method: str, step_size: float, run: int, budget: Budget, seed: int) -> RunResult:
+    """Simulate budget.time time units; sample after the discarded fraction, at the positions the
+    Context holds after each step (q^{n+1})."""
+    result = RunResult(scene.name, method, float(step_size), run)
+    system, positions, _ = scene.build(method, seed)
+    integrator = scene.integrator(method, step_size, seed)
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName("CPU"), platform_properties(1))
+    context.setPositions(positions)
+    context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, seed)
+    total_steps = max(1, int(round(budget.time / step_size)))
+    sample_steps = max(1, int(round(budget.sample_interval / step_size)))
+    discard_steps = int(round(budget.discard * total_steps))
+    histogram = np.zeros(scene.rdf_bins)
+    try:
+        integrator.step(discard_steps)
+        for _ in range((total_steps - discard_steps) // sample_steps):
+            integrator.step(sample_steps)
+            if "configurational_temperature" in scene.observables:
+                gradient_squared, laplacian = dpd.configurational_sums(context)
+                if not np.isfinite(gradient_squared):  # OpenMM's own integrators run on with NaN
+                    raise mm.OpenMMException(f"non-finite forces at step {context.getStepCount()}")
+                result.gradient_squared.append(gradient_squared)
+                result.laplacian.append(laplacian)
+            if "kinetic_temperature" in scene.observables:
+                result.kinetic.append(dpd.kinetic_temperature(context) / dpd.REDUCED_TEMPERATURE)
+            if "pressure" in scene.observables:
+                result.pressure.append(dpd.virial_pressure(context))
+            if "rdf" in scene.observables:
+                histogram += dpd.pair_distance_histogram(context, scene.rdf_max_distance, scene.rdf_bins)
+                result.rdf_samples += 1
+    except mm.OpenMMException as error:
+        result.unstable = True
+        result.message = str(error).splitlines()[0]
+    if "rdf" in scene.observables and not result.unstable:
+        result.rdf_histogram = histogram.tolist()
+    return result
+
+
+def sweep(scene: Scene, method: str, run: int, budget: Budget, seed: int, error_ceiling: float = 0.5) -> List[RunResult]:
+    """Step sizes upward until the method becomes unstable or its error passes error_ceiling."""
+    results = []
+    for step_size in scene.stepsize_grid(budget):
+        result = run_one(scene, method, step_size, run, budget, seed)
+        results.append(result)
+        if result.unstable:
+            break
+        if result.laplacian and abs(np.mean(result.gradient_squared) / np.mean(result.laplacian) - 1) > error_ceiling:
+            break
+    return results
+
+
+def time_per_step(scene: Scene, method: str, steps: int = 300, repeats: int = 3, threads: int = 1) -> float:
+    """Wall time per step (s, the machine otherwise idle) with no observable, at the scene's timing step size: median of repeats."""
+    system, positions, integrator = scene.build(method, seed=1)
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName("CPU"), platform_properties(threads))
+    context.setPositions(positions)
+    context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 1)
+    integrator.step(50)
+    samples = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        integrator.step(steps)
+        samples.append((time.perf_counter() - start) / steps)
+    return float(np.median(samples))
