@@ -3,6 +3,7 @@
 
 #include "DPDTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
+#include "openmm/HarmonicBondForce.h"
 #include "openmm/VerletIntegrator.h"
 #include <gtest/gtest.h>
 
@@ -70,17 +71,67 @@ TEST(DPDObservables, KineticTemperatureCountsMovingParticlesMinusMomentum) {
     EXPECT_NEAR(DPDObservables::kineticTemperature(context), expected, 1e-12*expected);
 }
 
-TEST(DPDObservables, ConfigurationalTemperatureRefusesOtherPotentials) {
-    // The analytic Laplacian is that of the DPD potential only: another force must be refused.
+TEST(DPDObservables, ConfigurationalTemperatureRefusesForcesItCannotDifferentiate) {
+    // The Laplacian is known for pair potentials only: a bonded force must be refused, by name.
     SoftFluid fluid = makeSoftFluid(100, 3.0, 23);
-    auto* other = new CustomNonbondedForce("0");
-    for (int i = 0; i < 100; i++)
-        other->addParticle({});
-    other->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
-    other->setCutoffDistance(1.0);
-    fluid.system->addForce(other);
+    auto* bond = new HarmonicBondForce();
+    bond->addBond(0, 1, 0.5, 10.0);
+    fluid.system->addForce(bond);
     VerletIntegrator integrator(0.001);
     Context context(*fluid.system, integrator, platform("Reference"));
     context.setPositions(fluid.positions);
-    EXPECT_TRUE(throwsMentioning([&] { DPDObservables::configurationalSums(context); }, {"DPDForce"}));
+    EXPECT_TRUE(throwsMentioning([&] { DPDObservables::configurationalSums(context); }, {"HarmonicBondForce"}));
+}
+
+TEST(DPDObservables, CustomNonbondedCopyOfTheSoftForceGivesTheSameObservables) {
+    // The Lepton-differentiated Laplacian and virial of "0.5*a*rc*(1-r/rc)^2" must equal the analytic
+    // ones of the DPDForce (eq. 1.3) at the same configuration, to round-off.
+    SoftFluid fluid = makeSoftFluid(200, 3.0, 29);
+    VerletIntegrator integrator1(0.001), integrator2(0.001);
+    Context dpdContext(*fluid.system, integrator1, platform("Reference"));
+    dpdContext.setPositions(fluid.positions);
+    System customSystem;
+    Vec3 a, b, c;
+    fluid.system->getDefaultPeriodicBoxVectors(a, b, c);
+    customSystem.setDefaultPeriodicBoxVectors(a, b, c);
+    auto* custom = new CustomNonbondedForce("0.5*amp*rc*(1-r/rc)^2");
+    custom->addGlobalParameter("amp", 25.0);
+    custom->addGlobalParameter("rc", 1.0);
+    custom->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+    custom->setCutoffDistance(1.0);
+    for (int i = 0; i < 200; i++) {
+        customSystem.addParticle(1.0);
+        custom->addParticle({});
+    }
+    customSystem.addForce(custom);
+    Context customContext(customSystem, integrator2, platform("Reference"));
+    customContext.setPositions(fluid.positions);
+    DPDObservables::ConfigurationalSums expected = DPDObservables::configurationalSums(dpdContext);
+    DPDObservables::ConfigurationalSums actual = DPDObservables::configurationalSums(customContext);
+    EXPECT_NEAR(actual.gradientSquared, expected.gradientSquared, 1e-9*expected.gradientSquared);
+    EXPECT_NEAR(actual.laplacian, expected.laplacian, 1e-9*std::fabs(expected.laplacian));
+    double pressure = DPDObservables::virialPressure(dpdContext);
+    EXPECT_NEAR(DPDObservables::virialPressure(customContext), pressure, 1e-9*std::fabs(pressure));
+}
+
+TEST(DPDObservables, PairHistogramCountsEveryPairOnce) {
+    // Over [0, L/2) the histogram holds every pair closer than L/2 exactly once: compare with a direct count.
+    SoftFluid fluid = makeSoftFluid(150, 3.0, 31);
+    VerletIntegrator integrator(0.001);
+    Context context(*fluid.system, integrator, platform("Reference"));
+    context.setPositions(fluid.positions);
+    double half = 0.5*fluid.boxLength;
+    std::vector<double> counts = DPDObservables::pairDistanceHistogram(context, half, 20);
+    std::vector<double> direct(20, 0.0);
+    for (int i = 0; i < 150; i++)
+        for (int j = i+1; j < 150; j++) {
+            Vec3 d = fluid.positions[i]-fluid.positions[j];
+            for (int k = 0; k < 3; k++)
+                d[k] -= fluid.boxLength*std::round(d[k]/fluid.boxLength);
+            double r = std::sqrt(d.dot(d));
+            if (r < half)
+                direct[static_cast<int>(r/half*20)] += 1.0;
+        }
+    for (int bin = 0; bin < 20; bin++)
+        EXPECT_EQ(counts[bin], direct[bin]) << "bin " << bin;
 }

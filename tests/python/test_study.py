@@ -1,0 +1,102 @@
+"""The efficiency study's statistics, scene files and the LJ scene."""
+
+from pathlib import Path
+
+import numpy as np
+import openmm as mm
+import pytest
+
+import openmmdpd as dpd
+from openmmdpd.study import load_scene
+from openmmdpd.study.statistics import block_standard_error, configurational_relative_error, critical_step_size
+
+SCENES = sorted((Path(__file__).resolve().parents[2] / "examples" / "scenes").glob("*.toml"))
+
+
+def test_critical_step_size_interpolates_in_log_log():
+    h = np.array([0.01, 0.02, 0.04])
+    error = 0.05 * (h / 0.02) ** 2  # exactly second order: 10% at 0.02 * sqrt(2)
+    assert critical_step_size(h, error) == pytest.approx(0.02 * np.sqrt(2), rel=1e-12)
+    assert critical_step_size(h, -error) == pytest.approx(0.02 * np.sqrt(2), rel=1e-12)  # sign does not matter
+    assert critical_step_size(h, [0.01, 0.02, 0.03]) is None
+
+
+def test_block_standard_error_matches_the_ar1_value():
+    # AR(1) with coefficient phi: the standard error of the mean is sqrt((1+phi)/(1-phi)/n) for unit variance noise.
+    rng = np.random.default_rng(4)
+    phi, n = 0.9, 2**16
+    noise = rng.normal(size=n) * np.sqrt(1 - phi**2)
+    series = np.empty(n)
+    series[0] = rng.normal()
+    for k in range(1, n):
+        series[k] = phi * series[k - 1] + noise[k]
+    exact = np.sqrt((1 + phi) / (1 - phi) / n)
+    naive = series.std() / np.sqrt(n)
+    estimate = block_standard_error(series)
+    assert naive < 0.5 * exact                       # the naive error is far too small for correlated data
+    assert abs(estimate / exact - 1) < 0.2           # blocking recovers it (its own error is ~10% here)
+
+
+def test_relative_error_from_independent_runs():
+    runs = [(np.full(10, 1.1), np.ones(10)), (np.full(10, 1.3), np.ones(10))]
+    error, bar = configurational_relative_error(runs)
+    assert error == pytest.approx(0.2)
+    assert bar == pytest.approx(np.std([1.1, 1.3], ddof=1) / np.sqrt(2))
+
+
+@pytest.mark.parametrize("path", SCENES, ids=[p.stem for p in SCENES])
+def test_scene_files_load_and_build(path):
+    scene = load_scene(path)
+    for budget in scene.budgets.values():
+        grid = scene.stepsize_grid(budget)
+        assert grid[0] == scene.stepsizes[0] and grid[-1] <= scene.stepsizes[1] * (1 + 1e-12)
+    assert {"reduced", "full"} <= set(scene.budgets)
+    system, positions, integrator = scene.build(scene.methods[0], seed=1)
+    assert system.getNumParticles() == int(scene.system["num_particles"])
+
+
+def test_the_soft_fluid_scenes_cover_the_papers_frictions():
+    frictions = {load_scene(p).friction for p in SCENES if load_scene(p).system["kind"] == "soft_fluid"}
+    assert frictions == {4.5, 40.5, 200.0, 450.0}
+
+
+def test_lj_fluid_is_c1_truncated_and_on_a_lattice():
+    system, positions = dpd.lj_fluid(num_particles=500, density=0.85, cutoff=2.5)
+    box = system.getDefaultPeriodicBoxVectors()[0][0].value_in_unit(mm.unit.nanometer)
+    assert box == pytest.approx((500 / 0.85) ** (1 / 3))
+    # Two particles alone: the pair force and energy vanish continuously at the cutoff (eq. 73).
+    pair = mm.System()
+    pair.setDefaultPeriodicBoxVectors(*system.getDefaultPeriodicBoxVectors())
+    pair.addParticle(1.0)
+    pair.addParticle(1.0)
+    force = system.getForce(0)
+    lj = mm.CustomNonbondedForce(force.getEnergyFunction())
+    for k in range(force.getNumGlobalParameters()):
+        lj.addGlobalParameter(force.getGlobalParameterName(k), force.getGlobalParameterDefaultValue(k))
+    lj.setNonbondedMethod(mm.CustomNonbondedForce.CutoffPeriodic)
+    lj.setCutoffDistance(2.5)
+    lj.addParticle([])
+    lj.addParticle([])
+    pair.addForce(lj)
+    context = mm.Context(pair, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName("Reference"))
+    for r, energy_limit, force_limit in ((2.5 - 1e-6, 1e-10, 1e-5), (1.12246, None, None)):
+        context.setPositions([mm.Vec3(0, 0, 0), mm.Vec3(r, 0, 0)])
+        state = context.getState(getEnergy=True, getForces=True)
+        energy = state.getPotentialEnergy().value_in_unit(mm.unit.kilojoule_per_mole)
+        f = state.getForces(asNumpy=True).value_in_unit(mm.unit.kilojoule_per_mole / mm.unit.nanometer)[0, 0]
+        if energy_limit is not None:
+            assert abs(energy) < energy_limit and abs(f) < force_limit
+        else:
+            assert energy < -0.9  # near the LJ minimum, shifted by the truncation terms
+    spacing = np.diff(np.unique(np.round(positions.value_in_unit(mm.unit.nanometer)[:, 0], 9)))
+    assert np.allclose(spacing, box / 8)
+
+
+def test_radial_distribution_of_an_ideal_gas_is_one():
+    system, positions = dpd.soft_fluid(num_particles=400, density=3.0, seed=8)  # uniform random: ideal gas
+    context = mm.Context(system, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName("Reference"))
+    context.setPositions(positions)
+    histogram = dpd.pair_distance_histogram(context, 2.0, 10)
+    r, g = dpd.radial_distribution(histogram, 2.0, 400, 400 / 3.0)
+    # Outer bins hold thousands of pairs: Poisson scatter of a few percent.
+    assert np.all(np.abs(g[3:] - 1) < 0.1)
