@@ -6,7 +6,7 @@ JOBS ?= 2
 export PYTHONPATH := $(CURDIR)/$(BUILD)/python$(if $(PYTHONPATH),:$(PYTHONPATH))
 export PYTHON
 
-.PHONY: all deps build test test-cpp test-python demo bench clean
+.PHONY: all deps build test test-cpp test-python demo study-full bench clean
 
 all: build
 
@@ -25,8 +25,24 @@ test-python: build
 
 test: test-cpp test-python
 
+SCENES = examples/scenes/soft_fluid_gamma4.5.toml examples/scenes/soft_fluid_gamma40.5.toml \
+         examples/scenes/soft_fluid_gamma200.toml examples/scenes/soft_fluid_gamma450.toml \
+         examples/scenes/lj_fluid_gamma4.5.toml
+BUDGET ?= reduced
+REPORT ?= demo-output
+
+# The main job: the per-scheme table of the standard scene, then the efficiency study (reduced budget:
+# about 10 minutes on 2 cores) with its report in $(REPORT)/.
 demo: build
 	$(PYTHON) examples/demo.py
+	$(PYTHON) -m openmmdpd.study $(SCENES) --budget $(BUDGET) --out $(REPORT)
+
+# The paper's full protocol (1000 time units, 10 runs, 15% step-size increments): days on 2 cores.
+study-full: build
+	$(PYTHON) -m openmmdpd.study $(SCENES) --budget full --out study-full
+
+bench: build
+	$(PYTHON) benchmarks/scaling.py --out benchmarks/scaling-results.md
 
 clean:
 	rm -rf $(BUILD) $(BUILD).configure.log
