@@ -40,8 +40,52 @@ std::string DPDIntegrator::schemeName(Scheme scheme) {
     throw OpenMMException(message.str());
 }
 
+void DPDIntegrator::setNEMD(const DPDForcingProfile& profile, double forcing) {
+    if (!std::isfinite(forcing)) {
+        std::stringstream message;
+        message << "DPDIntegrator: NEMD forcing = " << forcing << " is out of range; it must be finite";
+        throw OpenMMException(message.str());
+    }
+    if (scheme != ABOBA)
+        throw OpenMMException("DPDIntegrator: NEMD and Norton dynamics are implemented with the ABOBA scheme only (scheme is "+
+                              schemeName(scheme)+")");
+    forcingProfile = profile.clone();
+    forcingMode = NEMD;
+    forcingStrength = forcing;
+}
+
+void DPDIntegrator::setNorton(const DPDForcingProfile& profile, double response) {
+    if (!std::isfinite(response)) {
+        std::stringstream message;
+        message << "DPDIntegrator: Norton response = " << response << " is out of range; it must be finite";
+        throw OpenMMException(message.str());
+    }
+    setNEMD(profile, 0.0);
+    forcingMode = Norton;
+    forcingStrength = response;
+}
+
+void DPDIntegrator::clearForcing() {
+    forcingMode = NoForcing;
+    forcingProfile.reset();
+    forcingStrength = 0.0;
+}
+
+DPDIntegrator::TransportStatistics DPDIntegrator::getTransportStatistics() const {
+    if (context == nullptr)
+        return TransportStatistics();
+    return kernel.getAs<const IntegrateDPDStepKernel>().getTransportStatistics();
+}
+
+void DPDIntegrator::resetTransportStatistics() {
+    if (context != nullptr)
+        kernel.getAs<IntegrateDPDStepKernel>().resetTransportStatistics();
+}
+
 void DPDIntegrator::setScheme(Scheme newScheme) {
     schemeName(newScheme); // validates
+    if (forcingMode != NoForcing && newScheme != ABOBA)
+        throw OpenMMException("DPDIntegrator: NEMD and Norton dynamics are implemented with the ABOBA scheme only");
     if (context != nullptr && newScheme != scheme)
         throw OpenMMException("DPDIntegrator: the scheme cannot be changed once the integrator is bound to a Context");
     scheme = newScheme;

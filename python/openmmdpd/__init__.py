@@ -11,7 +11,8 @@ from ._plugin import load_kernels as _load_kernels
 _load_kernels()
 
 from ._dpd_force import DPDForce  # noqa: E402
-from ._dpd_integrator import DPDIntegrator, SCHEMES  # noqa: E402
+from ._dpd_integrator import SCHEMES, DPDIntegrator, TransportStatistics  # noqa: E402
+from ._openmmdpd import ColourDrift, ShearProfile, TwoDrifts  # noqa: E402
 from ._observables import (  # noqa: E402
     configurational_sums,
     configurational_temperature,
@@ -26,6 +27,10 @@ __all__ = [
     "DPDForce",
     "DPDIntegrator",
     "SCHEMES",
+    "TransportStatistics",
+    "ColourDrift",
+    "TwoDrifts",
+    "ShearProfile",
     "REDUCED_TEMPERATURE",
     "soft_fluid",
     "lj_fluid",

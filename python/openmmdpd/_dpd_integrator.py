@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Tuple
+from typing import NamedTuple, Tuple
 
 import openmm
 import openmm.unit as unit
@@ -12,6 +12,24 @@ from ._type_pairs import TypePairMethods
 from ._units import Number, value_in
 
 SCHEMES: Tuple[str, ...] = ("VV", "S1", "ABOBA")
+
+
+class TransportStatistics(NamedTuple):
+    """Sums over the steps since the Context was made or resetTransportStatistics() was called."""
+
+    steps: int
+    response_sum: float   # sum of R = G . p at the end of each step (NEMD; constant r under Norton)
+    forcing_sum: float    # sum of Norton's lambda = l / dt (eq. 70)
+    last_response: float
+    last_forcing: float
+
+    @property
+    def mean_response(self) -> float:
+        return self.response_sum / self.steps if self.steps else float("nan")
+
+    @property
+    def mean_forcing(self) -> float:
+        return self.forcing_sum / self.steps if self.steps else float("nan")
 _FRICTION_UNIT = unit.amu / unit.picosecond
 
 
@@ -71,6 +89,37 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
 
     def setRandomNumberSeed(self, seed: int) -> None:
         _openmmdpd.integrator_set_seed(self, seed)
+
+    def setNEMD(self, profile: _openmmdpd.DPDForcingProfile, forcing: float) -> None:
+        """NEMD with ABOBA (Wu & Shang eq. 6): add forcing * F(q) to both B half-steps."""
+        _openmmdpd.integrator_set_nemd(self, profile, forcing)
+
+    def setNorton(self, profile: _openmmdpd.DPDForcingProfile, response: float) -> None:
+        """Norton dynamics with ABOBA (eqs. 11, 52-69): hold R = G(q) . p at `response`."""
+        _openmmdpd.integrator_set_norton(self, profile, response)
+
+    def clearForcing(self) -> None:
+        _openmmdpd.integrator_clear_forcing(self)
+
+    def getForcing(self) -> Tuple[str, str, float]:
+        """(mode "none"/"NEMD"/"Norton", profile type, eta or r)."""
+        return _openmmdpd.integrator_forcing(self)
+
+    def getTransportStatistics(self) -> TransportStatistics:
+        return TransportStatistics(*_openmmdpd.integrator_transport_statistics(self))
+
+    def getNortonForcing(self) -> Tuple[float, float]:
+        """lambda of the last step (eq. 70) and its running average (eq. 71)."""
+        statistics = self.getTransportStatistics()
+        return statistics.last_forcing, statistics.mean_forcing
+
+    def getResponse(self) -> Tuple[float, float]:
+        """R = G . p after the last step and its running average (NEMD's eq. 9 numerator)."""
+        statistics = self.getTransportStatistics()
+        return statistics.last_response, statistics.mean_response
+
+    def resetTransportStatistics(self) -> None:
+        _openmmdpd.integrator_reset_transport_statistics(self)
 
     def __repr__(self) -> str:
         return (f"<openmmdpd.DPDIntegrator scheme={self.getScheme()} T={self.getTemperature()} K "

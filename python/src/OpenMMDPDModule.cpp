@@ -3,7 +3,10 @@
 #include "SwigProxyBridge.h"
 #include "openmm/Context.h"
 #include "openmm/OpenMMException.h"
+#include "openmmdpd/DPDColourDrift.h"
 #include "openmmdpd/DPDForce.h"
+#include "openmmdpd/DPDShearProfile.h"
+#include "openmmdpd/DPDTwoDrifts.h"
 #include "openmmdpd/DPDIntegrator.h"
 #include "openmmdpd/DPDObservables.h"
 #include "openmmdpd/DPDTypePairTable.h"
@@ -104,6 +107,44 @@ NB_MODULE(_openmmdpd, m) {
     m.def("integrator_get_scheme", [](nb::handle proxy) { return integratorOf(proxy).getSchemeName(); });
     m.def("integrator_get_seed", [](nb::handle proxy) { return integratorOf(proxy).getRandomNumberSeed(); });
     m.def("integrator_set_seed", [](nb::handle proxy, int seed) { integratorOf(proxy).setRandomNumberSeed(seed); });
+
+    nb::class_<DPDForcingProfile>(m, "DPDForcingProfile", "A forcing profile F(q) with its response G(q) (Wu & Shang)")
+        .def("getType", &DPDForcingProfile::getType);
+    nb::class_<DPDColourDrift, DPDForcingProfile>(m, "ColourDrift",
+        "Colour drift (eq. 77): F_i = (-1)^i/sqrt(N) e_x, R = F . M^-1 p; for the mobility")
+        .def(nb::init<>());
+    nb::class_<DPDTwoDrifts, DPDForcingProfile>(m, "TwoDrifts",
+        "Two drifts (eq. 76): F_1 = -F_2 = e_x/sqrt(2), R = F . M^-1 p; for the mobility")
+        .def(nb::init<>());
+    nb::class_<DPDShearProfile, DPDForcingProfile>(m, "ShearProfile",
+        "Transverse forcing f(y) e_x for the shear viscosity: 'sinusoidal', 'piecewise_linear' or 'piecewise_constant'; "
+        "the response is the matching part of the velocity's first Fourier mode (eq. 89)")
+        .def("__init__", [](DPDShearProfile* self, const std::string& shape) {
+            new (self) DPDShearProfile(DPDShearProfile::shapeFromName(shape));
+        }, nb::arg("shape") = "sinusoidal")
+        .def("getShape", [](const DPDShearProfile& p) { return DPDShearProfile::shapeName(p.getShape()); })
+        .def("getFirstFourierCoefficient", &DPDShearProfile::getFirstFourierCoefficient)
+        .def("profile", &DPDShearProfile::profile, nb::arg("y"), nb::arg("box_height"));
+
+    m.def("integrator_set_nemd", [](nb::handle proxy, const DPDForcingProfile& profile, double forcing) {
+        integratorOf(proxy).setNEMD(profile, forcing);
+    });
+    m.def("integrator_set_norton", [](nb::handle proxy, const DPDForcingProfile& profile, double response) {
+        integratorOf(proxy).setNorton(profile, response);
+    });
+    m.def("integrator_clear_forcing", [](nb::handle proxy) { integratorOf(proxy).clearForcing(); });
+    m.def("integrator_forcing", [](nb::handle proxy) {
+        const DPDIntegrator& integrator = integratorOf(proxy);
+        static const char* modes[] = {"none", "NEMD", "Norton"};
+        const DPDForcingProfile* profile = integrator.getForcingProfile();
+        return std::make_tuple(std::string(modes[integrator.getForcingMode()]), profile ? profile->getType() : std::string(),
+                               integrator.getForcingStrength());
+    });
+    m.def("integrator_transport_statistics", [](nb::handle proxy) {
+        DPDIntegrator::TransportStatistics s = integratorOf(proxy).getTransportStatistics();
+        return std::make_tuple(s.steps, s.responseSum, s.forcingSum, s.lastResponse, s.lastForcing);
+    });
+    m.def("integrator_reset_transport_statistics", [](nb::handle proxy) { integratorOf(proxy).resetTransportStatistics(); });
 
     m.def("configurational_sums", [](nb::handle context) {
         DPDObservables::ConfigurationalSums sums = DPDObservables::configurationalSums(contextOf(context));

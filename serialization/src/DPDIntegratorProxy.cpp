@@ -1,5 +1,8 @@
 #include "openmmdpd/DPDIntegratorProxy.h"
+#include "openmmdpd/DPDColourDrift.h"
 #include "openmmdpd/DPDIntegrator.h"
+#include "openmmdpd/DPDShearProfile.h"
+#include "openmmdpd/DPDTwoDrifts.h"
 #include "openmmdpd/DPDTypePairTableSerializer.h"
 #include "openmm/OpenMMException.h"
 #include <memory>
@@ -18,6 +21,15 @@ void DPDIntegratorProxy::serialize(const void* object, OpenMM::SerializationNode
     node.setIntProperty("integrationForceGroups", integrator.getIntegrationForceGroups());
     node.setIntProperty("randomSeed", integrator.getRandomNumberSeed());
     DPDTypePairTableSerializer::write(integrator.getTable(), "friction", node);
+    if (integrator.getForcingMode() != DPDIntegrator::NoForcing) {
+        OpenMM::SerializationNode& forcing = node.createChildNode("Forcing");
+        const DPDForcingProfile& profile = *integrator.getForcingProfile();
+        forcing.setStringProperty("mode", integrator.getForcingMode() == DPDIntegrator::NEMD ? "NEMD" : "Norton");
+        forcing.setDoubleProperty("strength", integrator.getForcingStrength());
+        forcing.setStringProperty("profile", profile.getType());
+        if (auto* shear = dynamic_cast<const DPDShearProfile*>(&profile))
+            forcing.setStringProperty("shape", DPDShearProfile::shapeName(shear->getShape()));
+    }
 }
 
 void* DPDIntegratorProxy::deserialize(const OpenMM::SerializationNode& node) const {
@@ -30,5 +42,23 @@ void* DPDIntegratorProxy::deserialize(const OpenMM::SerializationNode& node) con
     integrator->setIntegrationForceGroups(node.getIntProperty("integrationForceGroups"));
     integrator->setRandomNumberSeed(node.getIntProperty("randomSeed"));
     DPDTypePairTableSerializer::read(node, "friction", integrator->getTable());
+    for (const OpenMM::SerializationNode& forcing : node.getChildren()) {
+        if (forcing.getName() != "Forcing")
+            continue;
+        std::unique_ptr<DPDForcingProfile> profile;
+        std::string type = forcing.getStringProperty("profile");
+        if (type == "ColourDrift")
+            profile = std::make_unique<DPDColourDrift>();
+        else if (type == "TwoDrifts")
+            profile = std::make_unique<DPDTwoDrifts>();
+        else if (type == "Shear")
+            profile = std::make_unique<DPDShearProfile>(DPDShearProfile::shapeFromName(forcing.getStringProperty("shape")));
+        else
+            throw OpenMM::OpenMMException("DPDIntegratorProxy: unknown forcing profile '"+type+"'");
+        if (forcing.getStringProperty("mode") == "NEMD")
+            integrator->setNEMD(*profile, forcing.getDoubleProperty("strength"));
+        else
+            integrator->setNorton(*profile, forcing.getDoubleProperty("strength"));
+    }
     return integrator.release();
 }

@@ -3,8 +3,10 @@
 
 #include "openmm/Integrator.h"
 #include "openmm/Kernel.h"
+#include "openmmdpd/DPDForcingProfile.h"
 #include "openmmdpd/DPDTypePairTable.h"
 #include <map>
+#include <memory>
 #include <string>
 
 namespace OpenMMDPD {
@@ -25,11 +27,23 @@ namespace OpenMMDPD {
  * DPDIntegrator.  The B step uses the total force of the Context (every force in the integration
  * force groups), so any OpenMM force may supply the conservative part.
  *
+ * Transport coefficients (Wu & Shang, stochastic Norton dynamics for DPD), with ABOBA: setNEMD adds
+ * eta F(q) to both B half-steps (eqs. 6, 24-32) and accumulates the response R = G(q) . p at the end of
+ * each step; setNorton holds R at r with Lagrange multipliers in A, B and O (eqs. 52-69) and
+ * accumulates the forcing lambda = l / dt of each step (eq. 70), martingale part excluded (eq. 63).
+ *
  * Particles of zero mass do not move and take no part in the pair sweeps.  Constraints are not supported.
  */
 class DPDIntegrator : public OpenMM::Integrator {
 public:
     enum Scheme { VV = 0, S1 = 1, ABOBA = 2 };
+    enum ForcingMode { NoForcing = 0, NEMD = 1, Norton = 2 };
+    /** Sums over the steps since the last reset: NEMD's response R, Norton's forcing lambda. */
+    struct TransportStatistics {
+        long long steps = 0;
+        double responseSum = 0.0, forcingSum = 0.0;
+        double lastResponse = 0.0, lastForcing = 0.0;
+    };
 
     /**
      * @param temperature      the temperature T (K) of the heat bath; > 0
@@ -81,6 +95,21 @@ public:
 
     void setStepSize(double size) override;
 
+    /** NEMD with ABOBA: add forcing * F(q) of the profile (a copy is kept) to the B steps. */
+    void setNEMD(const DPDForcingProfile& profile, double forcing);
+    /** Norton dynamics with ABOBA: hold the profile's response G(q) . p at `response`. */
+    void setNorton(const DPDForcingProfile& profile, double response);
+    /** Back to plain DPD. */
+    void clearForcing();
+    ForcingMode getForcingMode() const { return forcingMode; }
+    /** The forcing profile, or null without forcing. */
+    const DPDForcingProfile* getForcingProfile() const { return forcingProfile.get(); }
+    /** NEMD's forcing eta, or Norton's target response r. */
+    double getForcingStrength() const { return forcingStrength; }
+    /** Transport sums since the Context was made or resetTransportStatistics() was called. */
+    TransportStatistics getTransportStatistics() const;
+    void resetTransportStatistics();
+
     /**
      * Advance the simulation.  A step that produces a non-finite position or velocity throws an
      * OpenMMException naming the step, the scheme and the step size.
@@ -101,6 +130,9 @@ private:
     double temperature;
     Scheme scheme;
     int randomNumberSeed = 0;
+    ForcingMode forcingMode = NoForcing;
+    std::shared_ptr<const DPDForcingProfile> forcingProfile;
+    double forcingStrength = 0.0;
     DPDTypePairTable table;
     OpenMM::Kernel kernel;
 };

@@ -26,6 +26,8 @@ public:
     virtual void stateChanged(OpenMM::State::DataType changed) = 0;
     virtual void createCheckpoint(std::ostream& stream) const = 0;
     virtual void loadCheckpoint(std::istream& stream) = 0;
+    virtual DPDIntegrator::TransportStatistics getTransportStatistics() const = 0;
+    virtual void resetTransportStatistics() = 0;
 };
 
 } // namespace OpenMMDPD

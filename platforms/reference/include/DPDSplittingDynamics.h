@@ -41,6 +41,9 @@ public:
     void createCheckpoint(std::ostream& stream) const;
     void loadCheckpoint(std::istream& stream);
 
+    DPDIntegrator::TransportStatistics getTransportStatistics() const { return transport; }
+    void resetTransportStatistics() { transport = DPDIntegrator::TransportStatistics(); }
+
     /** True when the O sweep reads the DPDForce's pair list (no second distance pass). */
     bool sharesForcePairList() const { return sharedForceKernel != nullptr; }
     /** How often the integrator's own Verlet list was rebuilt (0 when the force's list is shared). */
@@ -50,7 +53,9 @@ private:
     struct ContextArrays;
     ContextArrays arrays(OpenMM::ContextImpl& context) const;
 
-    void stepABOBA(OpenMM::ContextImpl& context, double dt);
+    void stepABOBA(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator);
+    /** ABOBA-Norton, Wu & Shang eqs. 52-70. */
+    void stepABOBANorton(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator);
     void stepS1(OpenMM::ContextImpl& context, double dt);
     void stepVV(OpenMM::ContextImpl& context, double dt);
 
@@ -62,10 +67,21 @@ private:
     /** The one pair sweep: calls visit(pair, w, gamma, invReducedMass, R) for every pair inside its dissipative cutoff. */
     template <class Visitor>
     void sweepDissipativePairs(const DPDPairList& pairs, Visitor&& visit);
-    void applyPairwiseOrnsteinUhlenbeck(const DPDPairList& pairs, std::vector<OpenMM::Vec3>& velocities, double dt);
+    /**
+     * The exact pairwise OU sweep.  With `response` (Norton), also returns G . Delta p^D, the
+     * dissipative (non-martingale) momentum increments projected on G (eqs. 60-61, 63).
+     */
+    double applyPairwiseOrnsteinUhlenbeck(const DPDPairList& pairs, std::vector<OpenMM::Vec3>& velocities, double dt,
+                                          const std::vector<OpenMM::Vec3>* response = nullptr);
     void applyPairwiseBBK(const DPDPairList& pairs, std::vector<OpenMM::Vec3>& velocities, double dt);
     void addDissipativeAndRandomForces(const DPDPairList& pairs, const std::vector<OpenMM::Vec3>& velocities, double dt,
                                        std::vector<OpenMM::Vec3>& forces);
+    /** F(q) and G(q) of the integrator's forcing profile at the given positions; returns F . G. */
+    double evaluateForcingFields(const DPDIntegrator& integrator, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
+    /** R = G . p = sum_i G_i . m_i v_i. */
+    double responseOf(const std::vector<OpenMM::Vec3>& velocities) const;
+    /** p += xi F (the forcing of eqs. 6 and 11 over one sub-step). */
+    void applyForcingImpulse(double xi, std::vector<OpenMM::Vec3>& velocities) const;
     void throwNonFinite(OpenMM::ContextImpl& context, const char* what) const;
 
     std::shared_ptr<DPDPairListBuilder> builder;
@@ -74,7 +90,7 @@ private:
     double kT;
     double maxDisplacementPerDrift = 0.0; // half the box height
     DPDTypePairTable::Compiled friction;
-    std::vector<double> inverseMasses;
+    std::vector<double> masses, inverseMasses;
     int integrationGroups;
     DPDPairRandom random;
     unsigned long long sweepCounter = 0;
@@ -82,6 +98,12 @@ private:
     ReferenceCalcDPDForceKernel* sharedForceKernel = nullptr;
     std::unique_ptr<DPDVerletList> ownPairList;
     const DPDPairList* pairsAtCurrentPositions = nullptr;
+
+    // Transport (NEMD, Norton): the profile's fields at the latest positions, and the running sums.
+    std::vector<OpenMM::Vec3> forcingField, responseField;
+    const DPDForcingProfile* fieldsProfile = nullptr; // the profile the constant fields belong to
+    double forcingDotResponse = 0.0;
+    DPDIntegrator::TransportStatistics transport;
 
     // S1 and VV start a step with the force (and for S1 the pairs) of the previous step's end.
     std::vector<OpenMM::Vec3> forceAtCurrentPositions;

@@ -23,6 +23,8 @@ public:
     void stateChanged(OpenMM::State::DataType changed) override { dynamics->stateChanged(changed); }
     void createCheckpoint(std::ostream& stream) const override { dynamics->createCheckpoint(stream); }
     void loadCheckpoint(std::istream& stream) override { dynamics->loadCheckpoint(stream); }
+    DPDIntegrator::TransportStatistics getTransportStatistics() const override { return dynamics->getTransportStatistics(); }
+    void resetTransportStatistics() override { dynamics->resetTransportStatistics(); }
     const DPDSplittingDynamics& getDynamics() const { return *dynamics; }
 
 private:

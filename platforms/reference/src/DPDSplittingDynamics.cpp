@@ -34,10 +34,11 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
       kT(BOLTZ*integrator.getTemperature()), integrationGroups(integrator.getIntegrationForceGroups()) {
     const OpenMM::System& system = context.getSystem();
     friction = integrator.getTable().compile(system.getNumParticles());
+    masses.resize(system.getNumParticles());
     inverseMasses.resize(system.getNumParticles());
     for (int i = 0; i < system.getNumParticles(); i++) {
-        double mass = system.getParticleMass(i);
-        inverseMasses[i] = mass == 0.0 ? 0.0 : 1.0/mass;
+        masses[i] = system.getParticleMass(i);
+        inverseMasses[i] = masses[i] == 0.0 ? 0.0 : 1.0/masses[i];
     }
     int seed = integrator.getRandomNumberSeed();
     random = DPDPairRandom(seed != 0 ? static_cast<std::uint64_t>(seed) : std::random_device()());
@@ -119,18 +120,24 @@ void DPDSplittingDynamics::sweepDissipativePairs(const DPDPairList& pairs, Visit
     }
 }
 
-void DPDSplittingDynamics::applyPairwiseOrnsteinUhlenbeck(const DPDPairList& pairs, std::vector<Vec3>& velocities, double dt) {
+double DPDSplittingDynamics::applyPairwiseOrnsteinUhlenbeck(const DPDPairList& pairs, std::vector<Vec3>& velocities, double dt,
+                                                            const std::vector<Vec3>* response) {
+    double responseOfDissipation = 0.0;
     sweepDissipativePairs(pairs, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
         // m_ij dv = -gamma w^2 v dt + sigma w dW solved exactly (eqs. 2.14-2.16, 2.22), with
         // sigma^2 = 2 gamma kT so that the noise amplitude is sqrt(kT/m_ij (1 - exp(-2 tau dt))).
         double tau = gamma*w*w*invReducedMass;
         double relativeVelocity = pair.unit.dot(velocities[pair.i]-velocities[pair.j]);
-        double deltaV = relativeVelocity*std::expm1(-tau*dt) + std::sqrt(-kT*invReducedMass*std::expm1(-2.0*tau*dt))*R;
+        double dissipative = relativeVelocity*std::expm1(-tau*dt);
+        double deltaV = dissipative + std::sqrt(-kT*invReducedMass*std::expm1(-2.0*tau*dt))*R;
         // p_i += m_ij dv e, p_j -= m_ij dv e (eq. 2.17).
         Vec3 deltaP = pair.unit*(deltaV/invReducedMass);
         velocities[pair.i] += deltaP*inverseMasses[pair.i];
         velocities[pair.j] -= deltaP*inverseMasses[pair.j];
+        if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
+            responseOfDissipation += dissipative/invReducedMass*pair.unit.dot((*response)[pair.i]-(*response)[pair.j]);
     });
+    return responseOfDissipation;
 }
 
 void DPDSplittingDynamics::applyPairwiseBBK(const DPDPairList& pairs, std::vector<Vec3>& velocities, double dt) {
@@ -161,6 +168,30 @@ void DPDSplittingDynamics::addDissipativeAndRandomForces(const DPDPairList& pair
     });
 }
 
+double DPDSplittingDynamics::evaluateForcingFields(const DPDIntegrator& integrator, const std::vector<Vec3>& positions, const Vec3* box) {
+    const DPDForcingProfile& profile = *integrator.getForcingProfile();
+    if (profile.dependsOnPositions() || fieldsProfile != &profile || forcingField.size() != positions.size()) {
+        profile.evaluate(positions, box, masses, forcingField, responseField);
+        fieldsProfile = &profile;
+        forcingDotResponse = 0.0;
+        for (std::size_t i = 0; i < positions.size(); i++)
+            forcingDotResponse += forcingField[i].dot(responseField[i]);
+    }
+    return forcingDotResponse;
+}
+
+double DPDSplittingDynamics::responseOf(const std::vector<Vec3>& velocities) const {
+    double response = 0.0;
+    for (std::size_t i = 0; i < velocities.size(); i++)
+        response += masses[i]*responseField[i].dot(velocities[i]);
+    return response;
+}
+
+void DPDSplittingDynamics::applyForcingImpulse(double xi, std::vector<Vec3>& velocities) const {
+    for (std::size_t i = 0; i < velocities.size(); i++)
+        velocities[i] += forcingField[i]*(xi*inverseMasses[i]);
+}
+
 void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const char* what) const {
     std::stringstream message;
     message << "DPDIntegrator: non-finite or runaway " << what << " at step " << context.getStepCount()+1 << " (scheme "
@@ -169,18 +200,76 @@ void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const ch
     throw OpenMM::OpenMMException(message.str());
 }
 
-void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt) {
+void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator) {
     ContextArrays state = arrays(context);
+    bool nemd = integrator.getForcingMode() == DPDIntegrator::NEMD;
     if (!drift(state.positions, state.velocities, 0.5*dt))                     // A(dt/2), eq. 2.19
         throwNonFinite(context, "positions");
     const DPDPairList& pairs = evaluateForcesAndPairs(context);                 // the one force evaluation, at q^{n+1/2}
+    double eta = integrator.getForcingStrength();
+    if (nemd)
+        evaluateForcingFields(integrator, state.positions, state.box);          // F(q^{n+1/2}) of eq. 6
     kick(state.velocities, state.forces, 0.5*dt);                               // B(dt/2), eq. 2.20
+    if (nemd)
+        applyForcingImpulse(0.5*dt*eta, state.velocities);                      // + eta F dt/2 (NEMD's B, eq. 17)
     if (!friction.allValuesZero)
         applyPairwiseOrnsteinUhlenbeck(pairs, state.velocities, dt);           // O(dt), eqs. 2.21-2.22
     if (!kick(state.velocities, state.forces, 0.5*dt))                          // B(dt/2), eq. 2.23
         throwNonFinite(context, "velocities");
+    if (nemd)
+        applyForcingImpulse(0.5*dt*eta, state.velocities);
     if (!drift(state.positions, state.velocities, 0.5*dt))                      // A(dt/2), eq. 2.24
         throwNonFinite(context, "positions");
+    if (nemd) {
+        evaluateForcingFields(integrator, state.positions, state.box);          // G(q^{n+1})
+        transport.lastResponse = responseOf(state.velocities);                  // R at (q^{n+1}, p^{n+1}), for eq. 9
+        transport.responseSum += transport.lastResponse;
+        transport.steps++;
+    }
+    forceAtCurrentPositionsValid = false;
+}
+
+void DPDSplittingDynamics::stepABOBANorton(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator) {
+    ContextArrays state = arrays(context);
+    const double r = integrator.getForcingStrength();
+    auto requireControllable = [&](double fDotG) {
+        if (!(std::fabs(fDotG) > 0.0) || !std::isfinite(fDotG))
+            throw OpenMM::OpenMMException("DPDIntegrator: Norton dynamics needs F(q) . G(q) != 0 (controllability, Wu & Shang "
+                                          "after eq. 13), but the "+integrator.getForcingProfile()->getType()+" profile gives "+
+                                          std::to_string(fDotG));
+        return fDotG;
+    };
+    // Each multiplier xi sets G . p to r after its sub-step (eqs. 42, 45, 50); l sums them (eq. 54 ...).
+    auto project = [&](double fDotG) {
+        double xi = (r - responseOf(state.velocities))/fDotG;
+        applyForcingImpulse(xi, state.velocities);
+        return xi;
+    };
+    double l = 0.0;
+    if (!drift(state.positions, state.velocities, 0.5*dt))                                // eq. 52
+        throwNonFinite(context, "positions");
+    double fDotG = requireControllable(evaluateForcingFields(integrator, state.positions, state.box));
+    l += project(fDotG);                                                                   // eqs. 53-54
+    const DPDPairList& pairs = evaluateForcesAndPairs(context);
+    kick(state.velocities, state.forces, 0.5*dt);                                          // eq. 55
+    l += project(fDotG);                                                                   // eqs. 56-57
+    if (!friction.allValuesZero) {
+        double responseOfDissipation = applyPairwiseOrnsteinUhlenbeck(pairs, state.velocities, dt, &responseField); // eqs. 58-61
+        project(fDotG);                                                                    // eq. 62
+        l -= responseOfDissipation/fDotG;                                                  // eq. 63: martingale part left out
+    }
+    if (!kick(state.velocities, state.forces, 0.5*dt))                                     // eq. 64
+        throwNonFinite(context, "velocities");
+    l += project(fDotG);                                                                   // eqs. 65-66
+    if (!drift(state.positions, state.velocities, 0.5*dt))                                 // eq. 67
+        throwNonFinite(context, "positions");
+    fDotG = requireControllable(evaluateForcingFields(integrator, state.positions, state.box));
+    l += project(fDotG);                                                                   // eqs. 68-69
+    transport.lastForcing = l/dt;                                                          // eq. 70
+    transport.lastResponse = responseOf(state.velocities);
+    transport.forcingSum += transport.lastForcing;
+    transport.responseSum += transport.lastResponse;
+    transport.steps++;
     forceAtCurrentPositionsValid = false;
 }
 
@@ -233,8 +322,12 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
         if (state.box[k] != boxOfStoredForce[k])
             forceAtCurrentPositionsValid = false;
     keepStoredForceThroughStateChanges = false;
-    if (scheme == DPDIntegrator::ABOBA)
-        stepABOBA(context, stepSize);
+    if (integrator.getForcingMode() != DPDIntegrator::NoForcing && scheme != DPDIntegrator::ABOBA)
+        throw OpenMM::OpenMMException("DPDIntegrator: NEMD and Norton dynamics are implemented with the ABOBA scheme only");
+    if (scheme == DPDIntegrator::ABOBA && integrator.getForcingMode() == DPDIntegrator::Norton)
+        stepABOBANorton(context, stepSize, integrator);
+    else if (scheme == DPDIntegrator::ABOBA)
+        stepABOBA(context, stepSize, integrator);
     else if (scheme == DPDIntegrator::S1)
         stepS1(context, stepSize);
     else
@@ -274,6 +367,7 @@ void DPDSplittingDynamics::createCheckpoint(std::ostream& stream) const {
     stream.write(reinterpret_cast<const char*>(&sweepCounter), sizeof(sweepCounter));
     // Only VV's stored force depends on more than the positions (the velocities and random numbers
     // of the previous step's end); S1 recomputes its stored force from the positions, bit for bit.
+    stream.write(reinterpret_cast<const char*>(&transport), sizeof(transport));
     bool storeForce = scheme == DPDIntegrator::VV && forceAtCurrentPositionsValid;
     stream.write(reinterpret_cast<const char*>(&storeForce), sizeof(storeForce));
     if (storeForce) {
@@ -287,6 +381,7 @@ void DPDSplittingDynamics::loadCheckpoint(std::istream& stream) {
     stream.read(reinterpret_cast<char*>(&seed), sizeof(seed));
     random = DPDPairRandom(seed);
     stream.read(reinterpret_cast<char*>(&sweepCounter), sizeof(sweepCounter));
+    stream.read(reinterpret_cast<char*>(&transport), sizeof(transport));
     bool storedForce;
     stream.read(reinterpret_cast<char*>(&storedForce), sizeof(storedForce));
     pairsAtCurrentPositions = nullptr;
