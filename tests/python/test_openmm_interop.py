@@ -183,3 +183,25 @@ def test_builtin_dpd_integrator_loads_beside_ours():
         context.setPositions(positions)
         integrator.step(5)
         assert np.isfinite(context.getState(getEnergy=True).getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole))
+
+
+def test_forcing_round_trips_through_xml_and_reports_statistics():
+    integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.05, "ABOBA")
+    integrator.setNorton(dpd.ShearProfile("piecewise_constant"), 0.1)
+    copy = dpd.DPDIntegrator.cast(mm.XmlSerializer.deserialize(mm.XmlSerializer.serialize(integrator)))
+    assert copy.getForcing() == ("Norton", "Shear", 0.1)
+    integrator.setNEMD(dpd.ColourDrift(), 2.0)
+    assert integrator.getForcing() == ("NEMD", "ColourDrift", 2.0)
+    system, positions = small_fluid()
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName("Reference"))
+    context.setPositions(positions)
+    integrator.step(40)
+    statistics = integrator.getTransportStatistics()
+    assert statistics.steps == 40 and statistics.forcing_sum == 0.0
+    assert integrator.getResponse()[1] == pytest.approx(statistics.response_sum / 40)
+    integrator.resetTransportStatistics()
+    assert integrator.getTransportStatistics().steps == 0
+    with pytest.raises(mm.OpenMMException, match="unknown shape 'zigzag'"):
+        dpd.ShearProfile("zigzag")
+    with pytest.raises(mm.OpenMMException, match="ABOBA scheme only"):
+        dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.05, "S1").setNorton(dpd.ColourDrift(), 0.5)
