@@ -1,0 +1,67 @@
+"""Estimators of Wu & Shang: NEMD (eq. 9), Norton (eq. 16), viscosity (eq. 87), asymptotic variance
+by block averaging (sec. 4.3, Flyvbjerg-Petersen), mobility from the mean squared displacement (eqs. 78-80)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+from scipy import stats
+
+from ..study.statistics import block_standard_error
+
+
+@dataclass
+class TransportEstimate:
+    value: float               # the transport coefficient (mobility alpha, or U_1 per unit forcing)
+    error: float               # its standard error
+    mean: float                # E[R] (NEMD) or E[lambda] (Norton)
+    mean_error: float
+    asymptotic_variance: float  # of the coefficient's estimator: T Var(estimate) for long runs T
+
+
+def _pooled_mean(block_means_per_run: Sequence[np.ndarray], block_time: float):
+    """Mean over runs of block means, its standard error, and the asymptotic variance of the
+    time average (T * SE^2 with T the total simulated time)."""
+    series = [np.asarray(b, dtype=float) for b in block_means_per_run]
+    run_means = np.array([s.mean() for s in series])
+    if len(series) > 1:
+        error = run_means.std(ddof=1) / np.sqrt(len(series))
+        within = np.mean([block_standard_error(s) for s in series]) / np.sqrt(len(series))
+        error = max(error, within)  # few runs: do not trust a small scatter alone
+    else:
+        error = block_standard_error(series[0])
+    total_time = block_time * sum(len(s) for s in series)
+    return float(run_means.mean()), float(error), float(total_time * error**2)
+
+
+def nemd_coefficient(forcing: float, response_block_means: Sequence[np.ndarray], block_time: float) -> TransportEstimate:
+    """alpha = E_eta[R] / eta (eq. 9)."""
+    mean, error, variance = _pooled_mean(response_block_means, block_time)
+    return TransportEstimate(mean / forcing, error / abs(forcing), mean, error, variance / forcing**2)
+
+
+def norton_coefficient(response: float, forcing_block_means: Sequence[np.ndarray], block_time: float) -> TransportEstimate:
+    """alpha* = r / E*_r[lambda] (eq. 16); error and variance by the delta method."""
+    mean, error, variance = _pooled_mean(forcing_block_means, block_time)
+    return TransportEstimate(response / mean, abs(response) * error / mean**2, mean, error, response**2 * variance / mean**4)
+
+
+def viscosity(density: float, fourier_coefficient: float, box_height: float, u1: float, u1_error: float):
+    """nu = rho F_1 / U_1 (L_y / 2 pi)^2 (eq. 87), with U_1 the response per unit forcing."""
+    scale = density * (box_height / (2 * np.pi)) ** 2
+    nu = scale * fourier_coefficient / u1
+    return float(nu), float(abs(nu) * u1_error / abs(u1))
+
+
+def mobility_from_msd(times: np.ndarray, msd_per_run: Sequence[np.ndarray], kT: float = 1.0, fit_from: float = 0.3):
+    """alpha = beta D with D = lim MSD(t) / (6 t) (eqs. 78-80): the slope of a linear fit to the later
+    part of each run's MSD curve; mean and standard error over runs."""
+    slopes = []
+    for msd in msd_per_run:
+        keep = times >= fit_from * times[-1]
+        slopes.append(stats.linregress(times[keep], np.asarray(msd)[keep]).slope)
+    diffusion = np.array(slopes) / 6.0
+    error = diffusion.std(ddof=1) / np.sqrt(len(diffusion)) if len(diffusion) > 1 else float("nan")
+    return float(diffusion.mean() / kT), float(error / kT)
