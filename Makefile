@@ -6,7 +6,7 @@ JOBS ?= 2
 export PYTHONPATH := $(CURDIR)/$(BUILD)/python$(if $(PYTHONPATH),:$(PYTHONPATH))
 export PYTHON
 
-.PHONY: all deps build test test-cpp test-python demo study-full bench clean
+.PHONY: all deps build test test-cpp test-python demo study-full transport bench clean
 
 all: build
 
@@ -40,6 +40,10 @@ demo: build
 # The paper's full protocol (1000 time units, 10 runs, 15% step-size increments): days on 2 cores.
 study-full: build
 	$(PYTHON) -m openmmdpd.study $(SCENES) --budget full --out study-full
+
+# Transport coefficients (NEMD and Norton): about 8 minutes on 2 cores at the reduced budget.
+transport: build
+	$(PYTHON) -m openmmdpd.transport examples/scenes/transport_lj_fluid.toml --budget $(BUDGET) --out transport-report
 
 bench: build
 	$(PYTHON) benchmarks/scaling.py --out benchmarks/scaling-results.md
