@@ -10,13 +10,13 @@ comparison.  Usage: python examples/demo.py [--steps N] [--threads T]
 from __future__ import annotations
 
 import argparse
-import time
 from typing import Callable, Dict, List, Tuple
 
 import numpy as np
 import openmm as mm
 
 import openmmdpd as dpd
+from openmmdpd.study.sweep import median_seconds_per_step
 
 FRICTION = 4.5
 STEP_SIZE = 0.05
@@ -44,17 +44,6 @@ def make_context(integrator: mm.Integrator, threads: int, system: mm.System = No
     return context
 
 
-def seconds_per_step(integrator: mm.Integrator, steps: int, repeats: int = 3) -> float:
-    """Median over repeats of the wall time per step, with no observable computed."""
-    integrator.step(20)
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        integrator.step(steps)
-        times.append((time.perf_counter() - start) / steps)
-    return float(np.median(times))
-
-
 def sample_scheme(scheme: str, steps: int, threads: int) -> Dict[str, float]:
     integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, FRICTION, 1.0, STEP_SIZE, scheme)
     integrator.setRandomNumberSeed(SEED)
@@ -72,7 +61,7 @@ def sample_scheme(scheme: str, steps: int, threads: int) -> Dict[str, float]:
     kinetic_mean, kinetic_error = block_mean_and_error(np.array(kinetic))
     # k_B T_conf in kJ/mol equals T_conf / REDUCED_TEMPERATURE, i.e. 1 at the target.
     conf_mean, conf_error = ratio_mean_and_error(np.array(gradient_squared), np.array(laplacian))
-    timing = seconds_per_step(integrator, 200)
+    timing = median_seconds_per_step(integrator, 200, warmup=20)
     return dict(kinetic=kinetic_mean, kinetic_error=kinetic_error, conf=conf_mean, conf_error=conf_error, seconds=timing)
 
 
@@ -96,7 +85,7 @@ def peer_timings(threads: int) -> Dict[str, float]:
         integrator = create()
         clone = mm.XmlSerializer.deserialize(mm.XmlSerializer.serialize(system))
         context = make_context(integrator, threads, clone, positions)  # kept alive while timing
-        result[name] = seconds_per_step(integrator, 200)
+        result[name] = median_seconds_per_step(integrator, 200, warmup=20)
         del context
     return result
 

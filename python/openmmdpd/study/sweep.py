@@ -85,9 +85,20 @@ def sweep(scene: Scene, method: str, run: int, budget: Budget, seed: int, error_
     return results
 
 
+def median_seconds_per_step(integrator: mm.Integrator, steps: int = 300, repeats: int = 3, warmup: int = 50) -> float:
+    """Median over repeats of the wall time per step (s) of a bound integrator, with no observable."""
+    integrator.step(warmup)
+    samples = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        integrator.step(steps)
+        samples.append((time.perf_counter() - start) / steps)
+    return float(np.median(samples))
+
+
 def time_per_step(scene: Scene, method: str, steps: int = 300, repeats: int = 3, threads: int = 1) -> float:
     """Wall time per step (s, the machine otherwise idle) with no observable: median of repeats, at the
-    scene.s timing step size, or at a smaller one for a method unstable there (the cost of a
+    scene's timing step size, or at a smaller one for a method unstable there (the cost of a
     step does not depend on its size)."""
     for step_size in (scene.timing_stepsize, scene.stepsizes[0], scene.stepsizes[0] / 4):
         system, positions, _ = scene.build(method, seed=1)
@@ -96,13 +107,7 @@ def time_per_step(scene: Scene, method: str, steps: int = 300, repeats: int = 3,
         context.setPositions(positions)
         context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 1)
         try:
-            integrator.step(50)
-            samples = []
-            for _ in range(repeats):
-                start = time.perf_counter()
-                integrator.step(steps)
-                samples.append((time.perf_counter() - start) / steps)
-            return float(np.median(samples))
+            return median_seconds_per_step(integrator, steps, repeats)
         except mm.OpenMMException:
             continue
     raise RuntimeError(f"{method} is unstable at every timing step size of scene {scene.name}")
