@@ -23,7 +23,7 @@ def test_nemd_and_norton_estimators_invert_a_linear_response():
     # Delta method: error of r/E[lambda] is r * SE / E[lambda]^2.
     assert norton.error == pytest.approx(0.24 * norton.mean_error / norton.mean**2)
     # The asymptotic variance of the NEMD estimator scales as eta^-2 for the same noise.
-    same_noise = [0.01 * rng.normal(size=400) for _ in range(2)]
+    same_noise = [0.01 * rng.normal(size=512) for _ in range(2)]
     small = nemd_coefficient(1.0, same_noise, 1.0)
     large = nemd_coefficient(10.0, same_noise, 1.0)
     assert small.asymptotic_variance / large.asymptotic_variance == pytest.approx(100.0)

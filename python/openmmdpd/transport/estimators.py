@@ -22,16 +22,13 @@ class TransportEstimate:
 
 
 def _pooled_mean(block_means_per_run: Sequence[np.ndarray], block_time: float):
-    """Mean over runs of block means, its standard error, and the asymptotic variance of the
-    time average (T * SE^2 with T the total simulated time)."""
+    """Mean over runs of the block means, its standard error, and the asymptotic variance of the
+    time average (T * SE^2 with T the total simulated time).  The standard error pools each run's
+    Flyvbjerg-Petersen blocking estimate (sec. 4.3): with few runs, their scatter alone is too
+    noisy an estimate of the variance."""
     series = [np.asarray(b, dtype=float) for b in block_means_per_run]
     run_means = np.array([s.mean() for s in series])
-    if len(series) > 1:
-        error = run_means.std(ddof=1) / np.sqrt(len(series))
-        within = np.mean([block_standard_error(s) for s in series]) / np.sqrt(len(series))
-        error = max(error, within)  # few runs: do not trust a small scatter alone
-    else:
-        error = block_standard_error(series[0])
+    error = np.sqrt(np.mean([block_standard_error(s) ** 2 for s in series]) / len(series))
     total_time = block_time * sum(len(s) for s in series)
     return float(run_means.mean()), float(error), float(total_time * error**2)
 
