@@ -64,3 +64,15 @@ def lj_fluid(num_particles: int = 500, density: float = 0.85, epsilon: float = 1
     sites = np.array([(i, j, k) for i in range(per_side) for j in range(per_side) for k in range(per_side)], dtype=float)
     positions = (sites[:num_particles] + 0.5) * spacing
     return system, positions * unit.nanometer
+
+
+def make_fluid(description: dict, seed: int = 1) -> Tuple[openmm.System, unit.Quantity]:
+    """A scene file's [system] table as a System: kind "soft_fluid" (num_particles, density, a, cutoff)
+    or "lj_fluid" (num_particles, density, cutoff)."""
+    kind = description["kind"]
+    n, density = int(description["num_particles"]), float(description["density"])
+    if kind == "soft_fluid":
+        return soft_fluid(n, density, float(description.get("a", 25.0)), float(description.get("cutoff", 1.0)), seed=seed)
+    if kind == "lj_fluid":
+        return lj_fluid(n, density, cutoff=float(description.get("cutoff", 2.5)))
+    raise ValueError(f"unknown system kind {kind!r}; the kinds are soft_fluid and lj_fluid")

@@ -14,9 +14,10 @@ void ReferenceCalcDPDForceKernel::initialize(const OpenMM::System& system, const
 }
 
 void ReferenceCalcDPDForceKernel::copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) {
-    if (force.getTable().compile(context.getSystem().getNumParticles()).numTypes != parameters.numTypes)
+    DPDTypePairTable::Compiled updated = force.getTable().compile(context.getSystem().getNumParticles());
+    if (updated.numTypes != parameters.numTypes)
         throw OpenMM::OpenMMException("DPDForce: updateParametersInContext cannot change the set of particle types");
-    parameters = force.getTable().compile(context.getSystem().getNumParticles());
+    parameters = std::move(updated);
 }
 
 double ReferenceCalcDPDForceKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {

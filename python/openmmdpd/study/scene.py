@@ -11,6 +11,7 @@ import numpy as np
 import openmm as mm
 
 import openmmdpd as dpd
+from openmmdpd._scenes import make_fluid
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -54,17 +55,9 @@ class Scene:
 
     def build(self, method: str, seed: int) -> Tuple[mm.System, np.ndarray, mm.Integrator]:
         """The System (with the conservative force the method uses), positions and integrator."""
-        kind = self.system["kind"]
-        if kind == "soft_fluid":
-            system, positions = dpd.soft_fluid(int(self.system["num_particles"]), self.system["density"],
-                                               self.system["a"], self.system["cutoff"], seed=seed)
-            if method in ("ABOBA-CustomNonbonded", "OpenMM-DPD"):
-                replace_with_custom_soft_force(system, self.system["a"], self.system["cutoff"])
-        elif kind == "lj_fluid":
-            system, positions = dpd.lj_fluid(int(self.system["num_particles"]), self.system["density"],
-                                             cutoff=self.system["cutoff"])
-        else:
-            raise ValueError(f"scene {self.name}: unknown system kind {kind!r} (soft_fluid or lj_fluid)")
+        system, positions = make_fluid(self.system, seed)
+        if self.system["kind"] == "soft_fluid" and method in ("ABOBA-CustomNonbonded", "OpenMM-DPD"):
+            replace_with_custom_soft_force(system, self.system["a"], self.system["cutoff"])
         return system, positions, self.integrator(method, self.timing_stepsize, seed)
 
     def integrator(self, method: str, step_size: float, seed: int) -> mm.Integrator:

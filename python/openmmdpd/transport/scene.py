@@ -11,6 +11,7 @@ import numpy as np
 import openmm as mm
 
 import openmmdpd as dpd
+from openmmdpd._scenes import make_fluid
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -47,13 +48,7 @@ class TransportScene:
         return float(self.system["density"])
 
     def build(self, seed: int) -> Tuple[mm.System, np.ndarray]:
-        kind = self.system["kind"]
-        if kind == "lj_fluid":
-            return dpd.lj_fluid(int(self.system["num_particles"]), self.density, cutoff=self.system["cutoff"])
-        if kind == "soft_fluid":
-            return dpd.soft_fluid(int(self.system["num_particles"]), self.density, self.system.get("a", 25.0),
-                                  self.system.get("cutoff", 1.0), seed=seed)
-        raise ValueError(f"{self.name}: unknown system kind {kind!r} (lj_fluid or soft_fluid)")
+        return make_fluid(self.system, seed)
 
     def box_height(self) -> float:
         return (self.system["num_particles"] / self.density) ** (1.0 / 3.0)
