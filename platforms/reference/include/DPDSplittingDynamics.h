@@ -11,6 +11,7 @@
 #include "openmmdpd/DPDTypePairTable.h"
 #include <iosfwd>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace OpenMMDPD {
@@ -102,6 +103,7 @@ private:
     // Transport (NEMD, Norton): the profile's fields at the latest positions, and the running sums.
     std::vector<OpenMM::Vec3> forcingField, responseField;
     const DPDForcingProfile* fieldsProfile = nullptr; // the profile the constant fields belong to
+    std::string fieldsProfileType;
     double forcingDotResponse = 0.0;
     DPDIntegrator::TransportStatistics transport;
 

@@ -170,9 +170,13 @@ void DPDSplittingDynamics::addDissipativeAndRandomForces(const DPDPairList& pair
 
 double DPDSplittingDynamics::evaluateForcingFields(const DPDIntegrator& integrator, const std::vector<Vec3>& positions, const Vec3* box) {
     const DPDForcingProfile& profile = *integrator.getForcingProfile();
-    if (profile.dependsOnPositions() || fieldsProfile != &profile || forcingField.size() != positions.size()) {
+    // Position-independent fields are computed once per profile; the type guards against a new profile
+    // allocated where a freed one was (only the shear profiles have parameters, and they depend on q).
+    if (profile.dependsOnPositions() || fieldsProfile != &profile || fieldsProfileType != profile.getType() ||
+        forcingField.size() != positions.size()) {
         profile.evaluate(positions, box, masses, forcingField, responseField);
         fieldsProfile = &profile;
+        fieldsProfileType = profile.getType();
         forcingDotResponse = 0.0;
         for (std::size_t i = 0; i < positions.size(); i++)
             forcingDotResponse += forcingField[i].dot(responseField[i]);
