@@ -45,10 +45,6 @@ public:
     DPDIntegrator::TransportStatistics getTransportStatistics() const { return transport; }
     void resetTransportStatistics() { transport = DPDIntegrator::TransportStatistics(); }
 
-    /** True when the O sweep reads the DPDForce's pair list (no second distance pass). */
-    bool sharesForcePairList() const { return sharedForceKernel != nullptr; }
-    /** How often the integrator's own Verlet list was rebuilt (0 when the force's list is shared). */
-    int getNumOwnPairListBuilds() const { return ownPairList ? ownPairList->getNumBuilds() : 0; }
 
 private:
     struct ContextArrays;

@@ -18,9 +18,6 @@ class DPDVerletList {
 public:
     explicit DPDVerletList(double radius) : radius(radius) {}
     const DPDPairList& update(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* boxVectors, DPDPairListBuilder& builder);
-    const DPDPairList& getPairs() const { return current; }
-    double getRadius() const { return radius; }
-    int getNumBuilds() const { return numBuilds; }
 
 private:
     bool needsRebuild(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* boxVectors) const;
@@ -29,7 +26,6 @@ private:
     std::vector<std::vector<DPDPair> > threadPairs;
     std::vector<OpenMM::Vec3> positionsAtBuild;
     OpenMM::Vec3 boxAtBuild[3];
-    int numBuilds = 0;
 };
 
 } // namespace OpenMMDPD

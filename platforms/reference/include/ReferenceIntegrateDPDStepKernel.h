@@ -25,7 +25,6 @@ public:
     void loadCheckpoint(std::istream& stream) override { dynamics->loadCheckpoint(stream); }
     DPDIntegrator::TransportStatistics getTransportStatistics() const override { return dynamics->getTransportStatistics(); }
     void resetTransportStatistics() override { dynamics->resetTransportStatistics(); }
-    const DPDSplittingDynamics& getDynamics() const { return *dynamics; }
 
 private:
     std::shared_ptr<DPDPairListBuilder> builder;

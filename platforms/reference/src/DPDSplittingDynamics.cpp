@@ -318,8 +318,7 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
         stepSize = integrator.getStepSize();
         forceAtCurrentPositionsValid = false; // VV's stored random force carries 1/sqrt(dt)
     }
-    if (BOLTZ*integrator.getTemperature() != kT)
-        kT = BOLTZ*integrator.getTemperature();
+    kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
     ContextArrays state = arrays(context);
     maxDisplacementPerDrift = 0.5*std::min(state.box[0][0], std::min(state.box[1][1], state.box[2][2]));
     for (int k = 0; k < 3; k++)

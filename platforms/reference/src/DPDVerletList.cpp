@@ -34,7 +34,6 @@ const DPDPairList& DPDVerletList::update(const std::vector<Vec3>& positions, con
         positionsAtBuild = positions;
         for (int k = 0; k < 3; k++)
             boxAtBuild[k] = boxVectors[k];
-        numBuilds++;
     }
     double radius2 = radius*radius;
     threadPairs.resize(builder.getNumThreads());
