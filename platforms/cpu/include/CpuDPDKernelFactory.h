@@ -5,7 +5,7 @@
 
 namespace OpenMMDPD {
 
-/** Creates the plugin's kernels for OpenMM's CPU platform: the shared kernels with a CpuDPDPairListBuilder. */
+/** Creates the plugin's kernels for OpenMM's CPU platform: the shared kernels with the CPU pair engine (CpuDPDPairEngine). */
 class CpuDPDKernelFactory : public OpenMM::KernelFactory {
 public:
     OpenMM::KernelImpl* createKernelImpl(std::string name, const OpenMM::Platform& platform, OpenMM::ContextImpl& context) const override;

@@ -1,5 +1,5 @@
 #include "CpuDPDKernelFactory.h"
-#include "CpuDPDPairListBuilder.h"
+#include "CpuDPDPairEngine.h"
 #include "ReferenceCalcDPDForceKernel.h"
 #include "ReferenceIntegrateDPDStepKernel.h"
 #include "openmm/OpenMMException.h"
@@ -25,9 +25,10 @@ extern "C" OPENMM_EXPORT void registerKernelFactories() {
 OpenMM::KernelImpl* CpuDPDKernelFactory::createKernelImpl(std::string name, const OpenMM::Platform& platform,
                                                           OpenMM::ContextImpl& context) const {
     OpenMM::ThreadPool& threads = OpenMM::CpuPlatform::getPlatformData(context).threads;
+    DPDPairEngineFactory makeEngine = [&threads] { return std::make_unique<CpuDPDPairEngine>(threads); };
     if (name == CalcDPDForceKernel::Name())
-        return new ReferenceCalcDPDForceKernel(name, platform, std::make_shared<CpuDPDPairListBuilder>(threads));
+        return new ReferenceCalcDPDForceKernel(name, platform, makeEngine());
     if (name == IntegrateDPDStepKernel::Name())
-        return new ReferenceIntegrateDPDStepKernel(name, platform, std::make_shared<CpuDPDPairListBuilder>(threads));
+        return new ReferenceIntegrateDPDStepKernel(name, platform, makeEngine);
     throw OpenMM::OpenMMException("CpuDPDKernelFactory: no kernel named '"+name+"'");
 }

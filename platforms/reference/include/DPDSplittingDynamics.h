@@ -1,10 +1,8 @@
 #ifndef OPENMMDPD_DPDSPLITTINGDYNAMICS_H_
 #define OPENMMDPD_DPDSPLITTINGDYNAMICS_H_
 
-#include "DPDPairList.h"
-#include "DPDPairListBuilder.h"
+#include "DPDPairEngine.h"
 #include "DPDPairRandom.h"
-#include "DPDVerletList.h"
 #include "openmm/State.h"
 #include "openmm/internal/ContextImpl.h"
 #include "openmmdpd/DPDIntegrator.h"
@@ -28,12 +26,13 @@ class ReferenceCalcDPDForceKernel;
  *          Ornstein-Uhlenbeck process solved exactly (ABOBA, eqs. 2.14-2.17, 2.22) or by BBK (S1, eq. 2.12);
  *   VV:    dissipative and random pair forces added to the conservative ones (eqs. 2.2, 2.3).
  *
- * The pair list of the O sweep is the DPDForce kernel's list from the force evaluation at the same
- * positions when there is one with a large enough cutoff, and otherwise the integrator's own Verlet list.
+ * The pairs of the O sweep are those the DPDForce kernel's engine found in the force evaluation at the
+ * same positions when there is one with a large enough cutoff, and otherwise those of the integrator's
+ * own engine.  How pairs are found and swept is the platform's (DPDPairEngine); the composition is here.
  */
 class DPDSplittingDynamics {
 public:
-    DPDSplittingDynamics(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, std::shared_ptr<DPDPairListBuilder> builder);
+    DPDSplittingDynamics(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, DPDPairEngineFactory makeEngine);
 
     /** Take one step of the integrator's scheme. */
     void step(OpenMM::ContextImpl& context, const DPDIntegrator& integrator);
@@ -59,20 +58,10 @@ private:
     /** q += dt v; false if a position became non-finite or a particle moved more than half the box. */
     bool drift(std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities, double dt) const;
     bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, double dt) const;
-    /** Evaluate the Context's forces at its current positions and return the pairs at those positions. */
-    const DPDPairList& evaluateForcesAndPairs(OpenMM::ContextImpl& context);
-    /** The one pair sweep: calls visit(pair, w, gamma, invReducedMass, R) for every pair inside its dissipative cutoff. */
-    template <class Visitor>
-    void sweepDissipativePairs(const DPDPairList& pairs, Visitor&& visit);
-    /**
-     * The exact pairwise OU sweep.  With `response` (Norton), also returns G . Delta p^D, the
-     * dissipative (non-martingale) momentum increments projected on G (eqs. 60-61, 63).
-     */
-    double applyPairwiseOrnsteinUhlenbeck(const DPDPairList& pairs, std::vector<OpenMM::Vec3>& velocities, double dt,
-                                          const std::vector<OpenMM::Vec3>* response = nullptr);
-    void applyPairwiseBBK(const DPDPairList& pairs, std::vector<OpenMM::Vec3>& velocities, double dt);
-    void addDissipativeAndRandomForces(const DPDPairList& pairs, const std::vector<OpenMM::Vec3>& velocities, double dt,
-                                       std::vector<OpenMM::Vec3>& forces);
+    /** Evaluate the Context's forces at its current positions and return the engine holding the pairs at those positions. */
+    DPDPairEngine& evaluateForcesAndPairs(OpenMM::ContextImpl& context);
+    /** The parameters of the next pair sweep over a sub-step dt (each sweep draws new random numbers). */
+    DPDPairSweep nextSweep(double dt) { return {friction, inverseMasses, kT, dt, random, sweepCounter++}; }
     /** F(q) and G(q) of the integrator's forcing profile at the given positions; returns F . G. */
     double evaluateForcingFields(const DPDIntegrator& integrator, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     /** R = G . p = sum_i G_i . m_i v_i. */
@@ -81,7 +70,7 @@ private:
     void applyForcingImpulse(double xi, std::vector<OpenMM::Vec3>& velocities) const;
     void throwNonFinite(OpenMM::ContextImpl& context, const char* what) const;
 
-    std::shared_ptr<DPDPairListBuilder> builder;
+    DPDPairEngineFactory makeEngine;
     DPDIntegrator::Scheme scheme;
     double stepSize;
     double kT;
@@ -93,8 +82,8 @@ private:
     unsigned long long sweepCounter = 0;
 
     ReferenceCalcDPDForceKernel* sharedForceKernel = nullptr;
-    std::unique_ptr<DPDVerletList> ownPairList;
-    const DPDPairList* pairsAtCurrentPositions = nullptr;
+    std::unique_ptr<DPDPairEngine> ownEngine;
+    DPDPairEngine* pairsAtCurrentPositions = nullptr; // the engine holding the pairs at the current positions
 
     // Transport (NEMD, Norton): the profile's fields at the latest positions, and the running sums.
     std::vector<OpenMM::Vec3> forcingField, responseField;

@@ -1,8 +1,7 @@
 #ifndef OPENMMDPD_REFERENCECALCDPDFORCEKERNEL_H_
 #define OPENMMDPD_REFERENCECALCDPDFORCEKERNEL_H_
 
-#include "DPDPairList.h"
-#include "DPDPairListBuilder.h"
+#include "DPDPairEngine.h"
 #include "openmmdpd/CalcDPDForceKernel.h"
 #include "openmmdpd/DPDTypePairTable.h"
 #include <memory>
@@ -11,30 +10,28 @@
 namespace OpenMMDPD {
 
 /**
- * The soft DPD force on the Reference and CPU platforms: the platform's builder makes the pair list
+ * The soft DPD force on the Reference and CPU platforms: the platform's pair engine finds the pairs
  * at every evaluation (DPD particles move a large part of the cutoff in a few steps, so a Verlet skin
- * costs more in candidates than it saves in builds) and runs the pair loop on the platform's threads.
- * The pair list of the latest evaluation stays available to a DPDIntegrator at the same positions.
+ * costs more in candidates than it saves in builds) and adds their forces in the same pass.  The
+ * engine keeps the pairs of the latest evaluation for a DPDIntegrator sweeping at the same positions.
  */
 class ReferenceCalcDPDForceKernel : public CalcDPDForceKernel {
 public:
-    ReferenceCalcDPDForceKernel(const std::string& name, const OpenMM::Platform& platform, std::shared_ptr<DPDPairListBuilder> builder)
-        : CalcDPDForceKernel(name, platform), builder(std::move(builder)) {}
+    ReferenceCalcDPDForceKernel(const std::string& name, const OpenMM::Platform& platform, std::unique_ptr<DPDPairEngine> engine)
+        : CalcDPDForceKernel(name, platform), engine(std::move(engine)) {}
     void initialize(const OpenMM::System& system, const DPDForce& force) override;
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
     void copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) override;
 
-    /** The pairs closer than the largest cutoff at the positions of the latest evaluation. */
-    const DPDPairList& getPairList() const { return pairList; }
+    /** The engine holding the pairs closer than the largest cutoff at the positions of the latest evaluation. */
+    DPDPairEngine& getPairEngine() const { return *engine; }
     /** Counts evaluations, so a reader can tell whether the list belongs to the positions it holds. */
     long long getEvaluationCount() const { return evaluationCount; }
 
 private:
-    std::shared_ptr<DPDPairListBuilder> builder;
+    std::unique_ptr<DPDPairEngine> engine;
     DPDTypePairTable::Compiled parameters;
-    DPDPairList pairList;
-    std::vector<std::vector<OpenMM::Vec3> > threadForces;
-    std::vector<double> threadEnergy;
+    std::vector<OpenMM::Vec3> scratchForces;
     long long evaluationCount = 0;
 };
 

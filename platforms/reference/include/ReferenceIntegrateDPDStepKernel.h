@@ -1,20 +1,20 @@
 #ifndef OPENMMDPD_REFERENCEINTEGRATEDPDSTEPKERNEL_H_
 #define OPENMMDPD_REFERENCEINTEGRATEDPDSTEPKERNEL_H_
 
-#include "DPDPairListBuilder.h"
+#include "DPDPairEngine.h"
 #include "DPDSplittingDynamics.h"
 #include "openmmdpd/IntegrateDPDStepKernel.h"
 #include <memory>
 
 namespace OpenMMDPD {
 
-/** DPDIntegrator steps on the Reference and CPU platforms (the platform supplies the builder). */
+/** DPDIntegrator steps on the Reference and CPU platforms (the platform supplies the pair engines). */
 class ReferenceIntegrateDPDStepKernel : public IntegrateDPDStepKernel {
 public:
-    ReferenceIntegrateDPDStepKernel(const std::string& name, const OpenMM::Platform& platform, std::shared_ptr<DPDPairListBuilder> builder)
-        : IntegrateDPDStepKernel(name, platform), builder(std::move(builder)) {}
+    ReferenceIntegrateDPDStepKernel(const std::string& name, const OpenMM::Platform& platform, DPDPairEngineFactory makeEngine)
+        : IntegrateDPDStepKernel(name, platform), makeEngine(std::move(makeEngine)) {}
     void initialize(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) override {
-        dynamics = std::make_unique<DPDSplittingDynamics>(context, integrator, builder);
+        dynamics = std::make_unique<DPDSplittingDynamics>(context, integrator, makeEngine);
     }
     void execute(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) override { dynamics->step(context, integrator); }
     double computeKineticEnergy(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) override {
@@ -27,7 +27,7 @@ public:
     void resetTransportStatistics() override { dynamics->resetTransportStatistics(); }
 
 private:
-    std::shared_ptr<DPDPairListBuilder> builder;
+    DPDPairEngineFactory makeEngine;
     std::unique_ptr<DPDSplittingDynamics> dynamics;
 };
 

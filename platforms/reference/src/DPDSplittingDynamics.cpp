@@ -29,8 +29,8 @@ DPDSplittingDynamics::ContextArrays DPDSplittingDynamics::arrays(OpenMM::Context
 }
 
 DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const DPDIntegrator& integrator,
-                                           std::shared_ptr<DPDPairListBuilder> builder)
-    : builder(std::move(builder)), scheme(integrator.getScheme()), stepSize(integrator.getStepSize()),
+                                           DPDPairEngineFactory makeEngine)
+    : makeEngine(std::move(makeEngine)), scheme(integrator.getScheme()), stepSize(integrator.getStepSize()),
       kT(BOLTZ*integrator.getTemperature()), integrationGroups(integrator.getIntegrationForceGroups()) {
     const OpenMM::System& system = context.getSystem();
     friction = integrator.getTable().compile(system.getNumParticles());
@@ -84,88 +84,23 @@ bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector
     return finite;
 }
 
-const DPDPairList& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context) {
+DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context) {
     long long evaluationsBefore = sharedForceKernel ? sharedForceKernel->getEvaluationCount() : 0;
     context.calcForcesAndEnergy(true, false, integrationGroups);
-    if (friction.allValuesZero) {
-        static const DPDPairList noPairs;
-        pairsAtCurrentPositions = &noPairs; // no O sweep at zero friction, so no pair list either
-    }
+    if (!ownEngine)
+        ownEngine = makeEngine();
+    if (friction.allValuesZero)
+        pairsAtCurrentPositions = ownEngine.get(); // no O sweep at zero friction, so no pair search either
     else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore &&
-             sharedForceKernel->getPairList().radius >= friction.maxCutoff) // its cutoff may have changed since
-        pairsAtCurrentPositions = &sharedForceKernel->getPairList();
+             sharedForceKernel->getPairEngine().getRadius() >= friction.maxCutoff) // its cutoff may have changed since
+        pairsAtCurrentPositions = &sharedForceKernel->getPairEngine();
     else {
         ContextArrays state = arrays(context);
-        if (!ownPairList)
-            ownPairList = std::make_unique<DPDVerletList>(friction.maxCutoff);
         DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, state.box);
-        pairsAtCurrentPositions = &ownPairList->update(state.positions, state.box, *builder);
+        ownEngine->findPairs(state.positions, state.box, friction.maxCutoff, nullptr, nullptr);
+        pairsAtCurrentPositions = ownEngine.get();
     }
     return *pairsAtCurrentPositions;
-}
-
-template <class Visitor>
-void DPDSplittingDynamics::sweepDissipativePairs(const DPDPairList& pairs, Visitor&& visit) {
-    // Pairs are visited one after another: each update sees the velocities left by the previous
-    // ones (the successive sweep of eq. 2.10; any order is valid, Shang 2021 sec. 2.3).
-    std::uint64_t counter = sweepCounter++;
-    for (const DPDPair& pair : pairs.pairs) {
-        int ti = friction.particleTypeIndex[pair.i], tj = friction.particleTypeIndex[pair.j];
-        double cutoff = friction.cutoffOf(ti, tj);
-        double gamma = friction.valueOf(ti, tj);
-        double invReducedMass = inverseMasses[pair.i]+inverseMasses[pair.j];
-        if (pair.r >= cutoff || gamma == 0.0 || invReducedMass == 0.0)
-            continue;
-        visit(pair, 1.0-pair.r/cutoff, gamma, invReducedMass, random.normal(counter, pair.i, pair.j));
-    }
-}
-
-double DPDSplittingDynamics::applyPairwiseOrnsteinUhlenbeck(const DPDPairList& pairs, std::vector<Vec3>& velocities, double dt,
-                                                            const std::vector<Vec3>* response) {
-    double responseOfDissipation = 0.0;
-    sweepDissipativePairs(pairs, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
-        // m_ij dv = -gamma w^2 v dt + sigma w dW solved exactly (eqs. 2.14-2.16, 2.22), with
-        // sigma^2 = 2 gamma kT so that the noise amplitude is sqrt(kT/m_ij (1 - exp(-2 tau dt))).
-        double tau = gamma*w*w*invReducedMass;
-        double relativeVelocity = pair.unit.dot(velocities[pair.i]-velocities[pair.j]);
-        double dissipative = relativeVelocity*std::expm1(-tau*dt);
-        double deltaV = dissipative + std::sqrt(-kT*invReducedMass*std::expm1(-2.0*tau*dt))*R;
-        // p_i += m_ij dv e, p_j -= m_ij dv e (eq. 2.17).
-        Vec3 deltaP = pair.unit*(deltaV/invReducedMass);
-        velocities[pair.i] += deltaP*inverseMasses[pair.i];
-        velocities[pair.j] -= deltaP*inverseMasses[pair.j];
-        if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
-            responseOfDissipation += dissipative/invReducedMass*pair.unit.dot((*response)[pair.i]-(*response)[pair.j]);
-    });
-    return responseOfDissipation;
-}
-
-void DPDSplittingDynamics::applyPairwiseBBK(const DPDPairList& pairs, std::vector<Vec3>& velocities, double dt) {
-    sweepDissipativePairs(pairs, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
-        // Eq. 2.12 for general masses: K = gamma w^2 dt/2, J = sigma w sqrt(dt) R/2; an explicit
-        // half step, then an implicit one whose denominator 1 + K/m_ij is the paper's 1 + 2K at unit mass.
-        double K = 0.5*gamma*w*w*dt;
-        double J = 0.5*std::sqrt(2.0*gamma*kT)*w*std::sqrt(dt)*R;
-        double relativeVelocity = pair.unit.dot(velocities[pair.i]-velocities[pair.j]);
-        double firstHalf = -K*relativeVelocity + J;
-        double relativeAfterFirst = relativeVelocity + firstHalf*invReducedMass;
-        double secondHalf = (J - K*relativeAfterFirst)/(1.0 + K*invReducedMass);
-        Vec3 deltaP = pair.unit*(firstHalf+secondHalf);
-        velocities[pair.i] += deltaP*inverseMasses[pair.i];
-        velocities[pair.j] -= deltaP*inverseMasses[pair.j];
-    });
-}
-
-void DPDSplittingDynamics::addDissipativeAndRandomForces(const DPDPairList& pairs, const std::vector<Vec3>& velocities, double dt,
-                                                         std::vector<Vec3>& forces) {
-    double invSqrtDt = 1.0/std::sqrt(dt);
-    sweepDissipativePairs(pairs, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
-        // F^D + dF^R/dt with dW = sqrt(dt) R (eqs. 2.2b, 2.2c).
-        double relativeVelocity = pair.unit.dot(velocities[pair.i]-velocities[pair.j]);
-        double magnitude = -gamma*w*w*relativeVelocity + std::sqrt(2.0*gamma*kT)*w*R*invSqrtDt;
-        forces[pair.i] += pair.unit*magnitude;
-        forces[pair.j] -= pair.unit*magnitude;
-    });
 }
 
 double DPDSplittingDynamics::evaluateForcingFields(const DPDIntegrator& integrator, const std::vector<Vec3>& positions, const Vec3* box) {
@@ -209,7 +144,7 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     bool nemd = integrator.getForcingMode() == DPDIntegrator::NEMD;
     if (!drift(state.positions, state.velocities, 0.5*dt))                     // A(dt/2), eq. 2.19
         throwNonFinite(context, "positions");
-    const DPDPairList& pairs = evaluateForcesAndPairs(context);                 // the one force evaluation, at q^{n+1/2}
+    DPDPairEngine& pairs = evaluateForcesAndPairs(context);                     // the one force evaluation, at q^{n+1/2}
     double eta = integrator.getForcingStrength();
     if (nemd)
         evaluateForcingFields(integrator, state.positions, state.box);          // F(q^{n+1/2}) of eq. 6
@@ -217,7 +152,7 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     if (nemd)
         applyForcingImpulse(0.5*dt*eta, state.velocities);                      // + eta F dt/2 (NEMD's B, eq. 17)
     if (!friction.allValuesZero)
-        applyPairwiseOrnsteinUhlenbeck(pairs, state.velocities, dt);           // O(dt), eqs. 2.21-2.22
+        pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
     if (!kick(state.velocities, state.forces, 0.5*dt))                          // B(dt/2), eq. 2.23
         throwNonFinite(context, "velocities");
     if (nemd)
@@ -254,11 +189,11 @@ void DPDSplittingDynamics::stepABOBANorton(OpenMM::ContextImpl& context, double 
         throwNonFinite(context, "positions");
     double fDotG = requireControllable(evaluateForcingFields(integrator, state.positions, state.box));
     l += project(fDotG);                                                                   // eqs. 53-54
-    const DPDPairList& pairs = evaluateForcesAndPairs(context);
+    DPDPairEngine& pairs = evaluateForcesAndPairs(context);
     kick(state.velocities, state.forces, 0.5*dt);                                          // eq. 55
     l += project(fDotG);                                                                   // eqs. 56-57
     if (!friction.allValuesZero) {
-        double responseOfDissipation = applyPairwiseOrnsteinUhlenbeck(pairs, state.velocities, dt, &responseField); // eqs. 58-61
+        double responseOfDissipation = pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt), state.velocities, &responseField); // eqs. 58-61
         project(fDotG);                                                                    // eq. 62
         l -= responseOfDissipation/fDotG;                                                  // eq. 63: martingale part left out
     }
@@ -284,7 +219,7 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
         forceAtCurrentPositions = state.forces;
     }
     if (!friction.allValuesZero)
-        applyPairwiseBBK(*pairsAtCurrentPositions, state.velocities, dt);       // O(dt), eq. 2.12
+        pairsAtCurrentPositions->applyPairwiseBBK(nextSweep(dt), state.velocities); // O(dt), eq. 2.12
     kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // B(dt/2), eq. 2.13a
     if (!drift(state.positions, state.velocities, dt))                          // A(dt), eq. 2.13b
         throwNonFinite(context, "positions");
@@ -297,18 +232,18 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
 void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
     ContextArrays state = arrays(context);
     if (!forceAtCurrentPositionsValid) {
-        const DPDPairList& pairs = evaluateForcesAndPairs(context);
+        DPDPairEngine& pairs = evaluateForcesAndPairs(context);
         forceAtCurrentPositions = state.forces;
         if (!friction.allValuesZero)
-            addDissipativeAndRandomForces(pairs, state.velocities, dt, forceAtCurrentPositions);
+            pairs.addDissipativeAndRandomForces(nextSweep(dt), state.velocities, forceAtCurrentPositions);
     }
     kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // eq. 2.3a, with the stored forces
     if (!drift(state.positions, state.velocities, dt))                          // eq. 2.3b
         throwNonFinite(context, "positions");
-    const DPDPairList& pairs = evaluateForcesAndPairs(context);
+    DPDPairEngine& pairs = evaluateForcesAndPairs(context);
     forceAtCurrentPositions = state.forces;
     if (!friction.allValuesZero)
-        addDissipativeAndRandomForces(pairs, state.velocities, dt, forceAtCurrentPositions); // at (q^{n+1}, p^{n+1/2})
+        pairs.addDissipativeAndRandomForces(nextSweep(dt), state.velocities, forceAtCurrentPositions); // at (q^{n+1}, p^{n+1/2})
     if (!kick(state.velocities, forceAtCurrentPositions, 0.5*dt))               // eq. 2.3c
         throwNonFinite(context, "velocities");
 }

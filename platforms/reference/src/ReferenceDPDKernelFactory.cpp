@@ -1,6 +1,6 @@
 #include "ReferenceDPDKernelFactory.h"
 #include "ReferenceCalcDPDForceKernel.h"
-#include "ReferenceDPDPairListBuilder.h"
+#include "ReferenceDPDPairEngine.h"
 #include "ReferenceIntegrateDPDStepKernel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/windowsExport.h"
@@ -23,9 +23,10 @@ extern "C" OPENMM_EXPORT void registerKernelFactories() {
 
 OpenMM::KernelImpl* ReferenceDPDKernelFactory::createKernelImpl(std::string name, const OpenMM::Platform& platform,
                                                                 OpenMM::ContextImpl& context) const {
+    DPDPairEngineFactory makeEngine = [] { return std::make_unique<ReferenceDPDPairEngine>(); };
     if (name == CalcDPDForceKernel::Name())
-        return new ReferenceCalcDPDForceKernel(name, platform, std::make_shared<ReferenceDPDPairListBuilder>());
+        return new ReferenceCalcDPDForceKernel(name, platform, makeEngine());
     if (name == IntegrateDPDStepKernel::Name())
-        return new ReferenceIntegrateDPDStepKernel(name, platform, std::make_shared<ReferenceDPDPairListBuilder>());
+        return new ReferenceIntegrateDPDStepKernel(name, platform, makeEngine);
     throw OpenMM::OpenMMException("ReferenceDPDKernelFactory: no kernel named '"+name+"'");
 }

@@ -1,0 +1,61 @@
+#ifndef OPENMMDPD_CPUDPDCELLGRID_H_
+#define OPENMMDPD_CPUDPDCELLGRID_H_
+
+#include "openmm/Vec3.h"
+#include <vector>
+
+namespace OpenMMDPD {
+
+/**
+ * The CPU engine's cell list.  The box (any OpenMM triclinic box) is cut into n_a x n_b x n_c cells
+ * along its fractional coordinates, each at least `radius` thick (n_k = floor(h_k/radius), h_k the
+ * distance between the box's lattice planes), so every pair closer than the radius lies in one cell
+ * or in two neighbouring ones, whatever the tilt.  Particles are wrapped into the box and sorted by
+ * cell (stable, so the order depends only on the positions), giving contiguous per-cell arrays.
+ *
+ * Cells are coloured so that two cells of one colour are at least 3 cells apart along some axis:
+ * the pairs of a cell and its half stencil of 13 neighbours then share no particle with those of
+ * another cell of the same colour, and the cells of one colour can be swept in parallel.  Per axis
+ * the colour is k mod 3, with the 1 or 2 leftover cells of an axis whose count is not a multiple of 3
+ * getting colours of their own (and every cell its own colour on an axis of 1 or 2 cells).
+ */
+class CpuDPDCellGrid {
+public:
+    /** One neighbour of a cell: its index and the lattice shift that carries its particles next to the cell. */
+    struct Neighbor {
+        int cell;
+        OpenMM::Vec3 shift;
+    };
+    static constexpr int halfStencilSize = 14; // the cell itself and 13 of its 26 neighbours
+
+    /**
+     * Sort the particles into cells at least `radius` thick.  Throws an OpenMMException naming the
+     * particle if a position is not finite, and if the box is too thin for the radius.
+     */
+    void assign(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, double radius);
+
+    int getNumCells() const { return static_cast<int>(cellStart.size())-1; }
+    int getNumColors() const { return static_cast<int>(colorStart.size())-1; }
+    /** The half stencil of a cell: first the cell itself (shift 0), then 13 neighbours. */
+    void getHalfStencil(int cell, Neighbor stencil[halfStencilSize]) const;
+
+    /** Sorted particle s is particle sortedToOriginal[s] of the System; cell c holds [cellStart[c], cellStart[c+1]). */
+    std::vector<int> sortedToOriginal;
+    std::vector<int> cellStart;
+    /** Wrapped positions in sorted order. */
+    std::vector<OpenMM::Vec3> sortedPositions;
+    /** The cells in sweep order: colour by colour, by index within a colour; colour k is [colorStart[k], colorStart[k+1]). */
+    std::vector<int> cellsInSweepOrder, colorStart;
+
+private:
+    void layOut(const OpenMM::Vec3* box, double radius);
+    int cellsPerAxis[3] = {0, 0, 0};
+    OpenMM::Vec3 boxVectors[3];
+    double layoutRadius = -1.0;
+    std::vector<int> cellOfParticle, fill;
+    std::vector<OpenMM::Vec3> wrappedPositions;
+};
+
+} // namespace OpenMMDPD
+
+#endif

@@ -1,0 +1,74 @@
+#ifndef OPENMMDPD_CPUDPDPAIRENGINE_H_
+#define OPENMMDPD_CPUDPDPAIRENGINE_H_
+
+#include "CpuDPDCellGrid.h"
+#include "CpuDPDPairUpdateBlock.h"
+#include "CpuDPDThreadBarrier.h"
+#include "DPDPairEngine.h"
+#include "openmm/internal/ThreadPool.h"
+#include <functional>
+#include <vector>
+
+namespace OpenMMDPD {
+
+/**
+ * The CPU platform's DPD pairs: its own cell list (CpuDPDCellGrid) searched from scratch at every
+ * evaluation, the conservative force added in the same pass, and pair sweeps that run colour by
+ * colour.  Within a colour, cells share no particle, so the threads take contiguous runs of its
+ * cells and update velocities (or forces) without locks; colours follow one another behind a barrier.
+ *
+ * The pair order is therefore: colour by colour; within a colour, cell by cell in index order;
+ * within a cell, its particles in sorted order, each with the cell itself and then its 13 half-stencil
+ * neighbours.  It depends only on the positions, not on the number of threads, and every sum a
+ * particle receives is taken in that order: trajectories are bit-identical for any thread count.
+ * Positions of the pairs are held as displacements d = q_i - q_j in double precision.
+ */
+class CpuDPDPairEngine : public DPDPairEngine {
+public:
+    explicit CpuDPDPairEngine(OpenMM::ThreadPool& threads);
+    double findPairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, double radius,
+                     const DPDTypePairTable::Compiled* repulsion, std::vector<OpenMM::Vec3>* forces) override;
+    double getRadius() const override { return radius; }
+    double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
+                                          const std::vector<OpenMM::Vec3>* response) override;
+    void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
+    void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
+                                       std::vector<OpenMM::Vec3>& forces) override;
+
+private:
+    /** One thread's pairs, colour after colour, as sorted indices and displacements. */
+    struct PairBuffer {
+        std::vector<int> i, j;
+        std::vector<double> dx, dy, dz;
+        void clear();
+    };
+    /** Run body(thread) on every thread (directly when there is one). */
+    void onThreads(const std::function<void(int)>& body);
+    /** The cells [begin, end) of sweep order that a thread takes within a colour. */
+    void cellsOfThread(int color, int thread, int& begin, int& end) const;
+    void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion);
+    /**
+     * The successive sweep shared by O, BBK and VV: per colour, the thread's pairs get their
+     * coefficients in one vector pass, then apply(pair range of a cell, cell) runs cell by cell.
+     */
+    void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind,
+                      const std::function<void(int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart)>& apply);
+    void gatherSortedParticleData(const DPDPairSweep& sweep);
+
+    OpenMM::ThreadPool& threads;
+    int numThreads;
+    CpuDPDThreadBarrier barrier;
+    CpuDPDCellGrid grid;
+    double radius = 0.0;
+    std::vector<PairBuffer> buffers;                 // one per thread
+    std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its thread's buffer
+    std::vector<CpuDPDPairUpdateBlock> blocks;        // one per thread
+    std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order
+    std::vector<OpenMM::Vec3> sortedForces, sortedVelocities, sortedResponse;
+    std::vector<int> sortedRepulsionType, sortedFrictionType;
+    std::vector<double> sortedInverseMass;
+};
+
+} // namespace OpenMMDPD
+
+#endif

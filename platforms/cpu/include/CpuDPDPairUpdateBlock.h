@@ -1,0 +1,43 @@
+#ifndef OPENMMDPD_CPUDPDPAIRUPDATEBLOCK_H_
+#define OPENMMDPD_CPUDPDPAIRUPDATEBLOCK_H_
+
+#include "DPDPairEngine.h"
+#include <cstddef>
+#include <vector>
+
+namespace OpenMMDPD {
+
+/**
+ * The velocity-independent half of a CPU pair sweep, in one vectorised pass: for a run of pairs,
+ * the unit vectors e_ij and the affine update coefficients (slope, offset) of DPDPairFormulas.h,
+ * random numbers included (R_ij = DPDPairRandom::normal(counter, i, j), drawn with the vector math
+ * library).  Pairs outside their cutoff, with zero friction or between two massless particles get
+ * (0, 0).  The pass works in fixed blocks of `blockSize` pairs so that every pair takes the same code
+ * path wherever it sits in a run: the numbers, and so the trajectory, do not depend on how the pairs
+ * are split among threads.
+ */
+class CpuDPDPairUpdateBlock {
+public:
+    enum Kind { OrnsteinUhlenbeck, BBK, DissipativeAndRandomForce };
+    static constexpr std::size_t blockSize = 8;
+
+    /** The particle data the pass reads, in the engine's sorted order. */
+    struct Particles {
+        const int* originalIndex;
+        const int* frictionType;
+        const double* inverseMass;
+    };
+
+    /**
+     * Fill unit vectors and coefficients for pairs [0, count) given by sorted indices i, j and
+     * displacements d = q_i - q_j (0 < |d| < radius); the output arrays hold count rounded up to blockSize.
+     */
+    void compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count, const int* i, const int* j,
+                 const double* dx, const double* dy, const double* dz);
+
+    std::vector<double> ex, ey, ez, slope, offset;
+};
+
+} // namespace OpenMMDPD
+
+#endif

@@ -1,0 +1,131 @@
+#include "CpuDPDCellGrid.h"
+#include "openmm/OpenMMException.h"
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+using namespace OpenMMDPD;
+using OpenMM::Vec3;
+
+namespace {
+
+/** The colour of cell k of n along one axis, and the number of colours of that axis (see the class comment). */
+int axisColor(int k, int n) {
+    if (n < 3)
+        return k;
+    int whole = 3*(n/3);
+    return k < whole ? k%3 : 3+(k-whole);
+}
+
+int axisColors(int n) {
+    return n < 3 ? n : 3+n%3;
+}
+
+} // namespace
+
+void CpuDPDCellGrid::layOut(const Vec3* box, double radius) {
+    // Distances between lattice planes: h_c = c_z, h_b = V/|c x a|, h_a = V/|b x c|.
+    double volume = box[0][0]*box[1][1]*box[2][2];
+    auto length = [](Vec3 v) { return std::sqrt(v.dot(v)); };
+    double heights[3] = {volume/length(box[1].cross(box[2])), volume/length(box[2].cross(box[0])), box[2][2]};
+    for (int k = 0; k < 3; k++) {
+        if (!(radius <= 0.5*heights[k])) {
+            std::stringstream message;
+            message << "DPD pair search: the search radius " << radius << " nm exceeds half the distance between the box's lattice planes ("
+                    << 0.5*heights[k] << " nm); enlarge the box or reduce the cutoff";
+            throw OpenMM::OpenMMException(message.str());
+        }
+        cellsPerAxis[k] = static_cast<int>(std::min(1e6, std::floor(heights[k]/radius)));
+    }
+    // A cutoff tiny against the box would make more cells than particles: coarser cells are as correct.
+    long long maxCells = 4LL*static_cast<long long>(sortedToOriginal.size())+64;
+    while (static_cast<long long>(cellsPerAxis[0])*cellsPerAxis[1]*cellsPerAxis[2] > maxCells) {
+        int* largest = std::max_element(cellsPerAxis, cellsPerAxis+3);
+        *largest = std::max(1, *largest/2);
+    }
+    int numCells = cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2];
+    for (int k = 0; k < 3; k++)
+        boxVectors[k] = box[k];
+    layoutRadius = radius;
+
+    // Sweep order: a counting sort of the cells by colour, by index within a colour.
+    int colors[3] = {axisColors(cellsPerAxis[0]), axisColors(cellsPerAxis[1]), axisColors(cellsPerAxis[2])};
+    int numColors = colors[0]*colors[1]*colors[2];
+    std::vector<int> colorOfCell(numCells);
+    colorStart.assign(numColors+1, 0);
+    for (int z = 0, cell = 0; z < cellsPerAxis[2]; z++)
+        for (int y = 0; y < cellsPerAxis[1]; y++)
+            for (int x = 0; x < cellsPerAxis[0]; x++, cell++) {
+                colorOfCell[cell] = (axisColor(z, cellsPerAxis[2])*colors[1]+axisColor(y, cellsPerAxis[1]))*colors[0]+axisColor(x, cellsPerAxis[0]);
+                colorStart[colorOfCell[cell]+1]++;
+            }
+    for (int color = 0; color < numColors; color++)
+        colorStart[color+1] += colorStart[color];
+    cellsInSweepOrder.resize(numCells);
+    std::vector<int> next(colorStart.begin(), colorStart.end()-1);
+    for (int cell = 0; cell < numCells; cell++)
+        cellsInSweepOrder[next[colorOfCell[cell]]++] = cell;
+}
+
+void CpuDPDCellGrid::assign(const std::vector<Vec3>& positions, const Vec3* box, double radius) {
+    int numParticles = static_cast<int>(positions.size());
+    sortedToOriginal.resize(numParticles);
+    if (radius != layoutRadius || box[0] != boxVectors[0] || box[1] != boxVectors[1] || box[2] != boxVectors[2])
+        layOut(box, radius);
+    int numCells = cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2];
+    cellOfParticle.resize(numParticles);
+    wrappedPositions.resize(numParticles);
+    sortedPositions.resize(numParticles);
+    cellStart.assign(numCells+1, 0);
+    // Fractional coordinates in OpenMM's lower-triangular box: f_c = z/c_z, f_b = (y - f_c c_y)/b_y,
+    // f_a = (x - f_b b_x - f_c c_x)/a_x, each reduced into [0, 1) with the position.
+    for (int i = 0; i < numParticles; i++) {
+        Vec3 p = positions[i];
+        if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) {
+            std::stringstream message;
+            message << "DPD pair search: particle " << i << " has a non-finite position (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+            throw OpenMM::OpenMMException(message.str());
+        }
+        double fraction[3];
+        for (int k = 2; k >= 0; k--) {
+            double f = p[k];
+            for (int l = k+1; l < 3; l++)
+                f -= fraction[l]*box[l][k];
+            f /= box[k][k];
+            double whole = std::floor(f);
+            p -= box[k]*whole;
+            fraction[k] = f-whole;
+        }
+        int index[3];
+        for (int k = 0; k < 3; k++)
+            index[k] = std::min(cellsPerAxis[k]-1, std::max(0, static_cast<int>(fraction[k]*cellsPerAxis[k])));
+        cellOfParticle[i] = (index[2]*cellsPerAxis[1]+index[1])*cellsPerAxis[0]+index[0];
+        wrappedPositions[i] = p;
+        cellStart[cellOfParticle[i]+1]++;
+    }
+    for (int cell = 0; cell < numCells; cell++)
+        cellStart[cell+1] += cellStart[cell];
+    fill.assign(cellStart.begin(), cellStart.end()-1);
+    for (int i = 0; i < numParticles; i++)
+        sortedToOriginal[fill[cellOfParticle[i]]++] = i;
+    for (int s = 0; s < numParticles; s++)
+        sortedPositions[s] = wrappedPositions[sortedToOriginal[s]];
+}
+
+void CpuDPDCellGrid::getHalfStencil(int cell, Neighbor stencil[halfStencilSize]) const {
+    int nx = cellsPerAxis[0], ny = cellsPerAxis[1], nz = cellsPerAxis[2];
+    int x = cell%nx, y = (cell/nx)%ny, z = cell/(nx*ny);
+    stencil[0] = {cell, Vec3()};
+    int count = 1;
+    for (int dz = 0; dz <= 1; dz++)
+        for (int dy = (dz == 0 ? 0 : -1); dy <= 1; dy++)
+            for (int dx = (dz == 0 && dy == 0 ? 1 : -1); dx <= 1; dx++) {
+                // A neighbour index past either end wraps around, and its particles are seen through
+                // the lattice shift that puts them next to this cell.
+                int wx = x+dx < 0 ? -1 : (x+dx >= nx ? 1 : 0);
+                int wy = y+dy < 0 ? -1 : (y+dy >= ny ? 1 : 0);
+                int wz = z+dz >= nz ? 1 : 0;
+                int neighbor = ((z+dz-wz*nz)*ny+(y+dy-wy*ny))*nx+(x+dx-wx*nx);
+                stencil[count++] = {neighbor, boxVectors[0]*wx+boxVectors[1]*wy+boxVectors[2]*wz};
+            }
+}

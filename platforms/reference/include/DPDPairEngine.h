@@ -1,0 +1,69 @@
+#ifndef OPENMMDPD_DPDPAIRENGINE_H_
+#define OPENMMDPD_DPDPAIRENGINE_H_
+
+#include "DPDPairRandom.h"
+#include "openmm/Vec3.h"
+#include "openmmdpd/DPDTypePairTable.h"
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace OpenMMDPD {
+
+/**
+ * What one pair sweep needs besides the pairs: the friction table, the particles' inverse masses,
+ * kT, the sub-step length and the sweep's random numbers (R_ij = random.normal(counter, i, j)).
+ */
+struct DPDPairSweep {
+    const DPDTypePairTable::Compiled& friction;
+    const std::vector<double>& inverseMasses;
+    double kT, dt;
+    const DPDPairRandom& random;
+    std::uint64_t counter;
+};
+
+/**
+ * What a platform contributes to the DPD kernels: how the pairs closer than a radius are found and
+ * how they are swept.  The schemes (DPDSplittingDynamics) and the pair formulas (DPDPairFormulas.h)
+ * are written once; an engine owns the pairs of its latest search, so the force evaluation and the O
+ * sweep at the same positions share one list (Shang 2021: one force evaluation per ABOBA step).
+ *
+ * Every sweep visits each pair (i, j) closer than its type pair's dissipative cutoff once, with the
+ * minimum-image unit vector e_ij = (q_i - q_j)/r_ij and w = 1 - r_ij/r_c.  The successive sweeps (O)
+ * may use any pair order (Shang 2021 sec. 2.3); each engine documents and fixes its order.
+ */
+class DPDPairEngine {
+public:
+    virtual ~DPDPairEngine() = default;
+
+    /**
+     * Find every pair closer than `radius` at these positions.  With `repulsion`, also add the soft
+     * conservative force a_ij (1 - r/r_c) e_ij (Shang 2021 eq. 1.2) of every pair to `forces` and return
+     * its energy (eq. 1.3); otherwise return 0.
+     */
+    virtual double findPairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, double radius,
+                             const DPDTypePairTable::Compiled* repulsion, std::vector<OpenMM::Vec3>* forces) = 0;
+    /** The radius of the latest search (0 before the first). */
+    virtual double getRadius() const = 0;
+
+    /**
+     * The exact pairwise Ornstein-Uhlenbeck sweep of ABOBA's O step (eqs. 2.14-2.17, 2.22).  With
+     * `response` (Norton), also return G . Delta p^D, the dissipative momentum increments projected
+     * on the response field (Wu & Shang eqs. 60-61, 63); otherwise 0.
+     */
+    virtual double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
+                                                  const std::vector<OpenMM::Vec3>* response) = 0;
+    /** Shardlow's successive BBK sweep of DPD-S1 (eq. 2.12). */
+    virtual void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) = 0;
+    /** VV's dissipative and random pair forces F^D + F^R (eqs. 2.2b, 2.2c) at these velocities, added to `forces`. */
+    virtual void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
+                                               std::vector<OpenMM::Vec3>& forces) = 0;
+};
+
+/** How a platform makes its engines (one for a DPDForce kernel, one for an integrator's own pairs). */
+using DPDPairEngineFactory = std::function<std::unique_ptr<DPDPairEngine>()>;
+
+} // namespace OpenMMDPD
+
+#endif

@@ -1,0 +1,55 @@
+#ifndef OPENMMDPD_DPDPAIRFORMULAS_H_
+#define OPENMMDPD_DPDPAIRFORMULAS_H_
+
+#include <cmath>
+
+namespace OpenMMDPD {
+
+/**
+ * The per-pair formulas of the DPD schemes, written once for every platform.  Each pair update of a
+ * sweep is linear in the pair's relative velocity along e_ij, u = e_ij . (v_i - v_j):
+ *
+ *     Delta p = slope u + offset,      p_i += Delta p e_ij,  p_j -= Delta p e_ij,
+ *
+ * so a sweep can compute (slope, offset) for all pairs first, from positions and random numbers only,
+ * and keep only this cheap affine update in its successive (velocity-dependent) part.
+ * Inputs: gamma_ij, w = 1 - r/r_c, the inverse reduced mass 1/m_ij = 1/m_i + 1/m_j (> 0), kT, dt, R ~ N(0,1).
+ */
+struct DPDPairUpdate {
+    double slope, offset;
+    /** Of the momentum change, the part that is dissipation (not noise): slope u (Norton, eq. 60). */
+    double dissipative(double relativeVelocity) const { return slope*relativeVelocity; }
+    double momentumChange(double relativeVelocity) const { return slope*relativeVelocity + offset; }
+};
+
+/**
+ * The exact solution of m_ij du = -gamma w^2 u dt + sigma w dW over dt (eqs. 2.14-2.16, 2.22), with
+ * sigma^2 = 2 gamma kT: u' = u exp(-tau dt) + sqrt(kT/m_ij (1 - exp(-2 tau dt))) R, tau = gamma w^2/m_ij.
+ */
+inline DPDPairUpdate exactOrnsteinUhlenbeckUpdate(double gamma, double w, double invReducedMass, double kT, double dt, double R) {
+    double tau = gamma*w*w*invReducedMass;
+    double reducedMass = 1.0/invReducedMass;
+    return {reducedMass*std::expm1(-tau*dt), reducedMass*std::sqrt(-kT*invReducedMass*std::expm1(-2.0*tau*dt))*R};
+}
+
+/**
+ * Shardlow's pairwise BBK step (eq. 2.12) for general masses: K = gamma w^2 dt/2, J = sigma w sqrt(dt) R/2;
+ * an explicit half step Delta_1 = -K u + J, then an implicit one Delta_2 = (J - K (u + Delta_1/m_ij))/(1 + K/m_ij)
+ * (its denominator is the paper's 1 + 2K at unit mass), written as one affine map of u.
+ */
+inline DPDPairUpdate bbkUpdate(double gamma, double w, double invReducedMass, double kT, double dt, double R) {
+    double K = 0.5*gamma*w*w*dt;
+    double J = 0.5*std::sqrt(2.0*gamma*kT*dt)*w*R;
+    double implicitFactor = 1.0/(1.0 + K*invReducedMass);
+    double afterExplicit = 1.0 - K*invReducedMass; // u + Delta_1/m_ij = afterExplicit u + J/m_ij
+    return {-K - K*afterExplicit*implicitFactor, J + (J - K*J*invReducedMass)*implicitFactor};
+}
+
+/** VV's pair force magnitude along e_ij, F^D + F^R = -gamma w^2 u + sigma w R/sqrt(dt) (eqs. 2.2b, 2.2c). */
+inline DPDPairUpdate dissipativeAndRandomForce(double gamma, double w, double kT, double dt, double R) {
+    return {-gamma*w*w, std::sqrt(2.0*gamma*kT/dt)*w*R};
+}
+
+} // namespace OpenMMDPD
+
+#endif

@@ -1,0 +1,94 @@
+#include "ReferenceDPDPairEngine.h"
+#include "DPDPairFormulas.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
+#include <algorithm>
+#include <cmath>
+
+using namespace OpenMMDPD;
+using OpenMM::Vec3;
+
+double ReferenceDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec3* box, double radius,
+                                         const DPDTypePairTable::Compiled* repulsion, std::vector<Vec3>* forces) {
+    int numParticles = static_cast<int>(positions.size());
+    if (static_cast<int>(noExclusions.size()) != numParticles)
+        noExclusions.assign(numParticles, std::set<int>());
+    OpenMM::computeNeighborListVoxelHash(candidates, numParticles, positions, noExclusions, box, true, radius);
+    pairs.radius = radius;
+    pairs.pairs.clear();
+    double radius2 = radius*radius;
+    for (const OpenMM::AtomPair& candidate : candidates) {
+        int i = std::min(candidate.first, candidate.second), j = std::max(candidate.first, candidate.second);
+        Vec3 delta = DPDPeriodicBox::minimumImage(positions[i]-positions[j], box);
+        double r2 = delta.dot(delta);
+        if (r2 >= radius2 || r2 == 0.0)
+            continue;
+        double r = std::sqrt(r2);
+        pairs.pairs.push_back({i, j, r, delta/r});
+    }
+    std::sort(pairs.pairs.begin(), pairs.pairs.end(), [](const DPDPair& a, const DPDPair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; });
+    if (repulsion == nullptr)
+        return 0.0;
+    // Conservative pair force F_ij = a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3).
+    double energy = 0.0;
+    for (const DPDPair& pair : pairs.pairs) {
+        int ti = repulsion->particleTypeIndex[pair.i], tj = repulsion->particleTypeIndex[pair.j];
+        double cutoff = repulsion->cutoffOf(ti, tj);
+        if (pair.r >= cutoff)
+            continue;
+        double a = repulsion->valueOf(ti, tj);
+        double w = 1.0-pair.r/cutoff;
+        (*forces)[pair.i] += pair.unit*(a*w);
+        (*forces)[pair.j] -= pair.unit*(a*w);
+        energy += 0.5*a*cutoff*w*w;
+    }
+    return energy;
+}
+
+template <class Visitor>
+void ReferenceDPDPairEngine::sweepDissipativePairs(const DPDPairSweep& sweep, Visitor&& visit) const {
+    // Pairs are visited one after another: each update sees the velocities left by the previous
+    // ones (the successive sweep of eq. 2.10; any order is valid, Shang 2021 sec. 2.3).
+    for (const DPDPair& pair : pairs.pairs) {
+        int ti = sweep.friction.particleTypeIndex[pair.i], tj = sweep.friction.particleTypeIndex[pair.j];
+        double cutoff = sweep.friction.cutoffOf(ti, tj);
+        double gamma = sweep.friction.valueOf(ti, tj);
+        double invReducedMass = sweep.inverseMasses[pair.i]+sweep.inverseMasses[pair.j];
+        if (pair.r >= cutoff || gamma == 0.0 || invReducedMass == 0.0)
+            continue;
+        visit(pair, 1.0-pair.r/cutoff, gamma, invReducedMass, sweep.random.normal(sweep.counter, pair.i, pair.j));
+    }
+}
+
+double ReferenceDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<Vec3>& velocities,
+                                                              const std::vector<Vec3>* response) {
+    double responseOfDissipation = 0.0;
+    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
+        DPDPairUpdate update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, sweep.kT, sweep.dt, R);
+        double relativeVelocity = pair.unit.dot(velocities[pair.i]-velocities[pair.j]);
+        Vec3 deltaP = pair.unit*update.momentumChange(relativeVelocity); // p_i += Delta p, p_j -= Delta p (eq. 2.17)
+        velocities[pair.i] += deltaP*sweep.inverseMasses[pair.i];
+        velocities[pair.j] -= deltaP*sweep.inverseMasses[pair.j];
+        if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
+            responseOfDissipation += update.dissipative(relativeVelocity)*pair.unit.dot((*response)[pair.i]-(*response)[pair.j]);
+    });
+    return responseOfDissipation;
+}
+
+void ReferenceDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<Vec3>& velocities) {
+    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
+        DPDPairUpdate update = bbkUpdate(gamma, w, invReducedMass, sweep.kT, sweep.dt, R);
+        Vec3 deltaP = pair.unit*update.momentumChange(pair.unit.dot(velocities[pair.i]-velocities[pair.j]));
+        velocities[pair.i] += deltaP*sweep.inverseMasses[pair.i];
+        velocities[pair.j] -= deltaP*sweep.inverseMasses[pair.j];
+    });
+}
+
+void ReferenceDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,
+                                                           std::vector<Vec3>& forces) {
+    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
+        DPDPairUpdate force = dissipativeAndRandomForce(gamma, w, sweep.kT, sweep.dt, R);
+        Vec3 f = pair.unit*force.momentumChange(pair.unit.dot(velocities[pair.i]-velocities[pair.j]));
+        forces[pair.i] += f;
+        forces[pair.j] -= f;
+    });
+}
