@@ -36,17 +36,31 @@ public:
                                        std::vector<OpenMM::Vec3>& forces) override;
 
 private:
-    /** One thread's pairs, colour after colour, as sorted indices and displacements. */
+    /** One thread's pairs, colour after colour, as sorted indices and displacements; [0, size) is in use. */
     struct PairBuffer {
+        std::size_t size = 0;
         std::vector<int> i, j;
         std::vector<double> dx, dy, dz;
-        void clear();
+        void reserveMore(std::size_t count);
+    };
+    /** The particles of a cell's half stencil at their shifted positions, and the hits of the distance filter. */
+    struct CandidateSet {
+        std::vector<int> index, closeIndex;
+        std::vector<double> x, y, z;
+        void resize(int count) {
+            if (static_cast<int>(index.size()) >= count)
+                return;
+            for (auto* array : {&x, &y, &z})
+                array->resize(2*count);
+            index.resize(2*count);
+            closeIndex.resize(2*count+16);
+        }
     };
     /** Run body(thread) on every thread (directly when there is one). */
     void onThreads(const std::function<void(int)>& body);
     /** The cells [begin, end) of sweep order that a thread takes within a colour. */
     void cellsOfThread(int color, int thread, int& begin, int& end) const;
-    void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion);
+    void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates);
     /**
      * The successive sweep shared by O, BBK and VV: per colour, the thread's pairs get their
      * coefficients in one vector pass, then apply(pair range of a cell, cell) runs cell by cell.
@@ -61,6 +75,7 @@ private:
     CpuDPDCellGrid grid;
     double radius = 0.0;
     std::vector<PairBuffer> buffers;                 // one per thread
+    std::vector<CandidateSet> candidateSets;          // one per thread
     std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its thread's buffer
     std::vector<CpuDPDPairUpdateBlock> blocks;        // one per thread
     std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order

@@ -1,19 +1,24 @@
 #include "CpuDPDPairEngine.h"
+#include "CpuDPDDistanceFilter.h"
+#include <algorithm>
 #include <cmath>
 
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
 
-void CpuDPDPairEngine::PairBuffer::clear() {
-    i.clear();
-    j.clear();
-    dx.clear();
-    dy.clear();
-    dz.clear();
+void CpuDPDPairEngine::PairBuffer::reserveMore(std::size_t count) {
+    if (size+count <= i.size())
+        return;
+    std::size_t capacity = std::max(2*i.size(), size+count);
+    i.resize(capacity);
+    j.resize(capacity);
+    dx.resize(capacity);
+    dy.resize(capacity);
+    dz.resize(capacity);
 }
 
 CpuDPDPairEngine::CpuDPDPairEngine(OpenMM::ThreadPool& threads)
-    : threads(threads), numThreads(threads.getNumThreads()), barrier(numThreads), buffers(numThreads), blocks(numThreads) {}
+    : threads(threads), numThreads(threads.getNumThreads()), barrier(numThreads), buffers(numThreads), candidateSets(numThreads), blocks(numThreads) {}
 
 void CpuDPDPairEngine::onThreads(const std::function<void(int)>& body) {
     if (numThreads == 1) { // no hand-over to a worker thread: small systems pay no fixed cost per call
@@ -30,42 +35,63 @@ void CpuDPDPairEngine::cellsOfThread(int color, int thread, int& begin, int& end
     end = first+static_cast<int>(static_cast<long long>(count)*(thread+1)/numThreads);
 }
 
-void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion) {
+__attribute__((target_clones("avx512f", "avx2", "default")))
+void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates) {
+    // The candidates of every particle of this cell are the particles of its half stencil, seen
+    // through their lattice shifts, in one contiguous array: the cell's own particles first (a
+    // particle pairs with those after it), then the 13 neighbours'.
     CpuDPDCellGrid::Neighbor stencil[CpuDPDCellGrid::halfStencilSize];
     grid.getHalfStencil(cell, stencil);
     const std::vector<Vec3>& positions = grid.sortedPositions;
     const int* cellStart = grid.cellStart.data();
-    double radius2 = radius*radius, energy = 0.0;
-    for (int a = cellStart[cell]; a < cellStart[cell+1]; a++) {
-        for (const CpuDPDCellGrid::Neighbor& neighbor : stencil) {
-            // d = q_a - (q_b + shift): the displacement from b's image next to this cell.
-            Vec3 shifted = positions[a]-neighbor.shift;
-            int first = neighbor.cell == cell && neighbor.shift == Vec3() ? a+1 : cellStart[neighbor.cell];
-            for (int b = first; b < cellStart[neighbor.cell+1]; b++) {
-                Vec3 d = shifted-positions[b];
-                double r2 = d.dot(d);
-                if (r2 >= radius2 || r2 == 0.0)
-                    continue;
-                buffer.i.push_back(a);
-                buffer.j.push_back(b);
-                buffer.dx.push_back(d[0]);
-                buffer.dy.push_back(d[1]);
-                buffer.dz.push_back(d[2]);
-                if (repulsion == nullptr)
-                    continue;
-                // Conservative pair force a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3).
-                int typePair = sortedRepulsionType[a]*repulsion->numTypes+sortedRepulsionType[b];
-                double cutoff = repulsion->cutoff[typePair];
-                double r = std::sqrt(r2);
-                if (r >= cutoff)
-                    continue;
-                double strength = repulsion->value[typePair], w = 1.0-r/cutoff;
-                Vec3 force = d*(strength*w/r);
-                sortedForces[a] += force;
-                sortedForces[b] -= force;
-                energy += 0.5*strength*cutoff*w*w;
-            }
+    int numCandidates = 0;
+    for (const CpuDPDCellGrid::Neighbor& neighbor : stencil)
+        numCandidates += cellStart[neighbor.cell+1]-cellStart[neighbor.cell];
+    candidates.resize(numCandidates);
+    numCandidates = 0;
+    for (const CpuDPDCellGrid::Neighbor& neighbor : stencil)
+        for (int b = cellStart[neighbor.cell]; b < cellStart[neighbor.cell+1]; b++, numCandidates++) {
+            candidates.index[numCandidates] = b;
+            candidates.x[numCandidates] = positions[b][0]+neighbor.shift[0];
+            candidates.y[numCandidates] = positions[b][1]+neighbor.shift[1];
+            candidates.z[numCandidates] = positions[b][2]+neighbor.shift[2];
         }
+    int firstOfCell = cellStart[cell], numInCell = cellStart[cell+1]-firstOfCell;
+    buffer.reserveMore(static_cast<std::size_t>(numInCell)*numCandidates);
+    double radius2 = radius*radius, energy = 0.0;
+    for (int local = 0; local < numInCell; local++) {
+        int a = firstOfCell+local;
+        Vec3 q = positions[a];
+        int* close = candidates.closeIndex.data();
+        int numClose = CpuDPDDistanceFilter::findClose(candidates.x.data(), candidates.y.data(), candidates.z.data(), local+1,
+                                                       numCandidates, &q[0], radius2, close);
+        std::size_t base = buffer.size;
+        for (int n = 0; n < numClose; n++) {
+            int k = close[n];
+            buffer.i[base+n] = a;
+            buffer.j[base+n] = candidates.index[k];
+            buffer.dx[base+n] = q[0]-candidates.x[k];
+            buffer.dy[base+n] = q[1]-candidates.y[k];
+            buffer.dz[base+n] = q[2]-candidates.z[k];
+        }
+        buffer.size += numClose;
+        if (repulsion == nullptr)
+            continue;
+        // Conservative pair force a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3).
+        Vec3 forceOnA;
+        for (std::size_t n = base; n < buffer.size; n++) {
+            int b = buffer.j[n];
+            int typePair = sortedRepulsionType[a]*repulsion->numTypes+sortedRepulsionType[b];
+            double cutoff = repulsion->cutoff[typePair];
+            Vec3 d(buffer.dx[n], buffer.dy[n], buffer.dz[n]);
+            double r = std::sqrt(d.dot(d));
+            double strength = r < cutoff ? repulsion->value[typePair] : 0.0, w = 1.0-r/cutoff;
+            Vec3 force = d*(strength*w/r);
+            forceOnA += force;
+            sortedForces[b] -= force;
+            energy += 0.5*strength*cutoff*w*w;
+        }
+        sortedForces[a] += forceOnA;
     }
     cellSum[cell] = energy;
 }
@@ -86,15 +112,15 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
     }
     onThreads([&](int thread) {
         PairBuffer& buffer = buffers[thread];
-        buffer.clear();
+        buffer.size = 0;
         for (int color = 0; color < grid.getNumColors(); color++) {
             int begin, end;
             cellsOfThread(color, thread, begin, end);
             for (int k = begin; k < end; k++) {
                 int cell = grid.cellsInSweepOrder[k];
-                cellPairBegin[cell] = static_cast<int>(buffer.i.size());
-                searchCell(cell, buffer, repulsion);
-                cellPairEnd[cell] = static_cast<int>(buffer.i.size());
+                cellPairBegin[cell] = static_cast<int>(buffer.size);
+                searchCell(cell, buffer, repulsion, candidateSets[thread]);
+                cellPairEnd[cell] = static_cast<int>(buffer.size);
             }
             if (repulsion != nullptr) // the forces of one colour's cells touch no particle twice
                 barrier.wait();

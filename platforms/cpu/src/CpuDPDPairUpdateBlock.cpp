@@ -10,60 +10,91 @@ using namespace OpenMMDPD;
 
 namespace {
 
-std::uint64_t splitMix(std::uint64_t z) {
-    z += 0x9e3779b97f4a7c15ULL;
-    z = (z ^ (z >> 30))*0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27))*0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
+constexpr int B = static_cast<int>(CpuDPDPairUpdateBlock::blockSize);
 
-/** DPDPairRandom::normal, spelled so that it vectorises: the same bits, the same Box-Muller transform. */
-inline double pairNormal(std::uint64_t seed, std::uint64_t counter, int i, int j) {
-    std::uint64_t low = static_cast<std::uint32_t>(std::min(i, j)), high = static_cast<std::uint32_t>(std::max(i, j));
-    std::uint64_t key = splitMix(seed ^ splitMix(counter ^ splitMix((high << 32) | low)));
-    std::uint64_t second = splitMix(key);
-    const double twoToMinus53 = 1.0/9007199254740992.0;
-    double u1 = static_cast<double>(static_cast<std::int64_t>((key >> 11)+1))*twoToMinus53;
-    double u2 = static_cast<double>(static_cast<std::int64_t>(second >> 11))*twoToMinus53;
-    return std::sqrt(-2.0*std::log(u1))*std::cos(6.283185307179586*u2);
-}
-
+/**
+ * One block of pairs in three simple loops the vectoriser handles: geometry and parameters, the
+ * random numbers (DPDPairRandom::normal, through the vector math library), and the update formulas.
+ */
 template <CpuDPDPairUpdateBlock::Kind kind>
-__attribute__((target_clones("arch=skylake-avx512", "avx2", "default")))
-void computeBlocks(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,
+inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,
                    const int* __restrict pi, const int* __restrict pj, const double* __restrict dx, const double* __restrict dy,
                    const double* __restrict dz, double* __restrict ex, double* __restrict ey, double* __restrict ez,
                    double* __restrict slope, double* __restrict offset) {
     const int numTypes = sweep.friction.numTypes;
-    const double* gammaTable = sweep.friction.value.data();
-    const double* cutoffTable = sweep.friction.cutoff.data();
-    const std::uint64_t seed = sweep.random.getSeed(), counter = sweep.counter;
+    const double* __restrict gammaTable = sweep.friction.value.data();
+    const double* __restrict cutoffTable = sweep.friction.cutoff.data();
+    const int* __restrict originalIndex = particles.originalIndex;
+    const int* __restrict frictionType = particles.frictionType;
+    const double* __restrict inverseMass = particles.inverseMass;
+    const std::uint64_t randomKey = sweep.randomKey;
     const double kT = sweep.kT, dt = sweep.dt;
     for (std::size_t block = 0; block < numBlocks; block++) {
-        std::size_t first = block*CpuDPDPairUpdateBlock::blockSize;
-        for (std::size_t n = 0; n < CpuDPDPairUpdateBlock::blockSize; n++) {
+        const std::size_t first = block*B;
+        double r[B], gamma[B], w[B], invReducedMass[B], acts[B], R[B];
+        int originalI[B], originalJ[B];
+#pragma omp simd
+        for (int n = 0; n < B; n++) {
             std::size_t k = first+n;
             int i = pi[k], j = pj[k];
-            double r = std::sqrt(dx[k]*dx[k]+dy[k]*dy[k]+dz[k]*dz[k]);
-            double invR = 1.0/r;
+            r[n] = std::sqrt(dx[k]*dx[k]+dy[k]*dy[k]+dz[k]*dz[k]);
+            double invR = 1.0/r[n];
             ex[k] = dx[k]*invR;
             ey[k] = dy[k]*invR;
             ez[k] = dz[k]*invR;
-            int typePair = particles.frictionType[i]*numTypes+particles.frictionType[j];
-            double gamma = gammaTable[typePair], cutoff = cutoffTable[typePair];
-            double invReducedMass = particles.inverseMass[i]+particles.inverseMass[j];
-            bool acts = r < cutoff && gamma != 0.0 && invReducedMass > 0.0;
-            double w = acts ? 1.0-r/cutoff : 0.5;
-            double safeGamma = acts ? gamma : 1.0, safeInvReducedMass = acts ? invReducedMass : 1.0;
-            double R = pairNormal(seed, counter, particles.originalIndex[i], particles.originalIndex[j]);
+            int typePair = frictionType[i]*numTypes+frictionType[j];
+            double cutoff = cutoffTable[typePair];
+            invReducedMass[n] = inverseMass[i]+inverseMass[j];
+            acts[n] = static_cast<double>(r[n] < cutoff)*static_cast<double>(gammaTable[typePair] != 0.0)*static_cast<double>(invReducedMass[n] > 0.0);
+            // Pairs that do not act get harmless parameters and a zero update.
+            gamma[n] = acts[n] != 0.0 ? gammaTable[typePair] : 1.0;
+            w[n] = acts[n] != 0.0 ? 1.0-r[n]/cutoff : 0.5;
+            invReducedMass[n] = acts[n] != 0.0 ? invReducedMass[n] : 1.0;
+            originalI[n] = originalIndex[i];
+            originalJ[n] = originalIndex[j];
+        }
+#pragma omp simd
+        for (int n = 0; n < B; n++)
+            R[n] = DPDPairRandom::normal(randomKey, originalI[n], originalJ[n]);
+#pragma omp simd
+        for (int n = 0; n < B; n++) {
             DPDPairUpdate update = kind == CpuDPDPairUpdateBlock::OrnsteinUhlenbeck ?
-                    exactOrnsteinUhlenbeckUpdate(safeGamma, w, safeInvReducedMass, kT, dt, R) :
-                kind == CpuDPDPairUpdateBlock::BBK ? bbkUpdate(safeGamma, w, safeInvReducedMass, kT, dt, R) :
-                    dissipativeAndRandomForce(safeGamma, w, kT, dt, R);
-            slope[k] = acts ? update.slope : 0.0;
-            offset[k] = acts ? update.offset : 0.0;
+                    exactOrnsteinUhlenbeckUpdate(gamma[n], w[n], invReducedMass[n], kT, dt, R[n]) :
+                kind == CpuDPDPairUpdateBlock::BBK ? bbkUpdate(gamma[n], w[n], invReducedMass[n], kT, dt, R[n]) :
+                    dissipativeAndRandomForce(gamma[n], w[n], kT, dt, R[n]);
+            slope[first+n] = update.slope*acts[n];
+            offset[first+n] = update.offset*acts[n];
         }
     }
+}
+
+/**
+ * The block pass compiled for AVX-512 (its 64-bit integer multiply, AVX512DQ, vectorises the random
+ * numbers), AVX2 and plain x86-64, chosen at run time.  The same machine always takes the same one.
+ */
+using BlockPass = void (*)(std::size_t, const DPDPairSweep&, const CpuDPDPairUpdateBlock::Particles&, const int*, const int*,
+                           const double*, const double*, const double*, double*, double*, double*, double*, double*);
+
+#define OPENMMDPD_BLOCK_PASS(name, target)                                                                                \
+    template <CpuDPDPairUpdateBlock::Kind kind>                                                                           \
+    target void name(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,  \
+                     const int* pi, const int* pj, const double* dx, const double* dy, const double* dz, double* ex,       \
+                     double* ey, double* ez, double* slope, double* offset) {                                              \
+        computeBlocks<kind>(numBlocks, sweep, particles, pi, pj, dx, dy, dz, ex, ey, ez, slope, offset);                  \
+    }
+OPENMMDPD_BLOCK_PASS(computeBlocksAVX512, __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,fma"))))
+OPENMMDPD_BLOCK_PASS(computeBlocksAVX2, __attribute__((target("avx2,fma"))))
+OPENMMDPD_BLOCK_PASS(computeBlocksGeneric, )
+
+template <CpuDPDPairUpdateBlock::Kind kind>
+BlockPass selectBlockPass() {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
+        __builtin_cpu_supports("avx512bw"))
+        return computeBlocksAVX512<kind>;
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+        return computeBlocksAVX2<kind>;
+    return computeBlocksGeneric<kind>;
 }
 
 } // namespace
@@ -73,7 +104,8 @@ void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const 
     std::size_t wholeBlocks = count/blockSize, tail = count-wholeBlocks*blockSize;
     for (std::vector<double>* out : {&ex, &ey, &ez, &slope, &offset})
         out->resize((wholeBlocks+1)*blockSize);
-    auto run = kind == OrnsteinUhlenbeck ? computeBlocks<OrnsteinUhlenbeck> : kind == BBK ? computeBlocks<BBK> : computeBlocks<DissipativeAndRandomForce>;
+    static const BlockPass passes[3] = {selectBlockPass<OrnsteinUhlenbeck>(), selectBlockPass<BBK>(), selectBlockPass<DissipativeAndRandomForce>()};
+    BlockPass run = passes[kind];
     run(wholeBlocks, sweep, particles, i, j, dx, dy, dz, ex.data(), ey.data(), ez.data(), slope.data(), offset.data());
     if (tail == 0)
         return;

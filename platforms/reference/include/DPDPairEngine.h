@@ -13,14 +13,13 @@ namespace OpenMMDPD {
 
 /**
  * What one pair sweep needs besides the pairs: the friction table, the particles' inverse masses,
- * kT, the sub-step length and the sweep's random numbers (R_ij = random.normal(counter, i, j)).
+ * kT, the sub-step length and the key of the sweep's random numbers (R_ij = DPDPairRandom::normal(randomKey, i, j)).
  */
 struct DPDPairSweep {
     const DPDTypePairTable::Compiled& friction;
     const std::vector<double>& inverseMasses;
     double kT, dt;
-    const DPDPairRandom& random;
-    std::uint64_t counter;
+    std::uint64_t randomKey;
 };
 
 /**

@@ -61,7 +61,7 @@ private:
     /** Evaluate the Context's forces at its current positions and return the engine holding the pairs at those positions. */
     DPDPairEngine& evaluateForcesAndPairs(OpenMM::ContextImpl& context);
     /** The parameters of the next pair sweep over a sub-step dt (each sweep draws new random numbers). */
-    DPDPairSweep nextSweep(double dt) { return {friction, inverseMasses, kT, dt, random, sweepCounter++}; }
+    DPDPairSweep nextSweep(double dt) { return {friction, inverseMasses, kT, dt, random.sweepKey(sweepCounter++)}; }
     /** F(q) and G(q) of the integrator's forcing profile at the given positions; returns F . G. */
     double evaluateForcingFields(const DPDIntegrator& integrator, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     /** R = G . p = sum_i G_i . m_i v_i. */

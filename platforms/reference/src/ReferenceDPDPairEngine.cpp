@@ -55,7 +55,7 @@ void ReferenceDPDPairEngine::sweepDissipativePairs(const DPDPairSweep& sweep, Vi
         double invReducedMass = sweep.inverseMasses[pair.i]+sweep.inverseMasses[pair.j];
         if (pair.r >= cutoff || gamma == 0.0 || invReducedMass == 0.0)
             continue;
-        visit(pair, 1.0-pair.r/cutoff, gamma, invReducedMass, sweep.random.normal(sweep.counter, pair.i, pair.j));
+        visit(pair, 1.0-pair.r/cutoff, gamma, invReducedMass, DPDPairRandom::normal(sweep.randomKey, pair.i, pair.j));
     }
 }
 
