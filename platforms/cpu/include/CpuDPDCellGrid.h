@@ -42,8 +42,8 @@ public:
     /** Sorted particle s is particle sortedToOriginal[s] of the System; cell c holds [cellStart[c], cellStart[c+1]). */
     std::vector<int> sortedToOriginal;
     std::vector<int> cellStart;
-    /** Wrapped positions in sorted order. */
-    std::vector<OpenMM::Vec3> sortedPositions;
+    /** Wrapped positions in sorted order, one array per coordinate. */
+    std::vector<double> sortedX, sortedY, sortedZ;
     /** The cells in sweep order: colour by colour, by index within a colour; colour k is [colorStart[k], colorStart[k+1]). */
     std::vector<int> cellsInSweepOrder, colorStart;
 

@@ -75,7 +75,9 @@ void CpuDPDCellGrid::assign(const std::vector<Vec3>& positions, const Vec3* box,
     int numCells = cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2];
     cellOfParticle.resize(numParticles);
     wrappedPositions.resize(numParticles);
-    sortedPositions.resize(numParticles);
+    sortedX.resize(numParticles);
+    sortedY.resize(numParticles);
+    sortedZ.resize(numParticles);
     cellStart.assign(numCells+1, 0);
     // Fractional coordinates in OpenMM's lower-triangular box: f_c = z/c_z, f_b = (y - f_c c_y)/b_y,
     // f_a = (x - f_b b_x - f_c c_x)/a_x, each reduced into [0, 1) with the position.
@@ -108,8 +110,12 @@ void CpuDPDCellGrid::assign(const std::vector<Vec3>& positions, const Vec3* box,
     fill.assign(cellStart.begin(), cellStart.end()-1);
     for (int i = 0; i < numParticles; i++)
         sortedToOriginal[fill[cellOfParticle[i]]++] = i;
-    for (int s = 0; s < numParticles; s++)
-        sortedPositions[s] = wrappedPositions[sortedToOriginal[s]];
+    for (int s = 0; s < numParticles; s++) {
+        const Vec3& p = wrappedPositions[sortedToOriginal[s]];
+        sortedX[s] = p[0];
+        sortedY[s] = p[1];
+        sortedZ[s] = p[2];
+    }
 }
 
 void CpuDPDCellGrid::getHalfStencil(int cell, Neighbor stencil[halfStencilSize]) const {

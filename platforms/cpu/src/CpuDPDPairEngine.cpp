@@ -42,29 +42,34 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
     // particle pairs with those after it), then the 13 neighbours'.
     CpuDPDCellGrid::Neighbor stencil[CpuDPDCellGrid::halfStencilSize];
     grid.getHalfStencil(cell, stencil);
-    const std::vector<Vec3>& positions = grid.sortedPositions;
+    const double* sortedX = grid.sortedX.data();
+    const double* sortedY = grid.sortedY.data();
+    const double* sortedZ = grid.sortedZ.data();
     const int* cellStart = grid.cellStart.data();
     int numCandidates = 0;
     for (const CpuDPDCellGrid::Neighbor& neighbor : stencil)
         numCandidates += cellStart[neighbor.cell+1]-cellStart[neighbor.cell];
     candidates.resize(numCandidates);
     numCandidates = 0;
-    for (const CpuDPDCellGrid::Neighbor& neighbor : stencil)
-        for (int b = cellStart[neighbor.cell]; b < cellStart[neighbor.cell+1]; b++, numCandidates++) {
-            candidates.index[numCandidates] = b;
-            candidates.x[numCandidates] = positions[b][0]+neighbor.shift[0];
-            candidates.y[numCandidates] = positions[b][1]+neighbor.shift[1];
-            candidates.z[numCandidates] = positions[b][2]+neighbor.shift[2];
+    for (const CpuDPDCellGrid::Neighbor& neighbor : stencil) {
+        int begin = cellStart[neighbor.cell], count = cellStart[neighbor.cell+1]-begin;
+        for (int k = 0; k < count; k++) {
+            candidates.index[numCandidates+k] = begin+k;
+            candidates.x[numCandidates+k] = sortedX[begin+k]+neighbor.shift[0];
+            candidates.y[numCandidates+k] = sortedY[begin+k]+neighbor.shift[1];
+            candidates.z[numCandidates+k] = sortedZ[begin+k]+neighbor.shift[2];
         }
+        numCandidates += count;
+    }
     int firstOfCell = cellStart[cell], numInCell = cellStart[cell+1]-firstOfCell;
     buffer.reserveMore(static_cast<std::size_t>(numInCell)*numCandidates);
     double radius2 = radius*radius, energy = 0.0;
     for (int local = 0; local < numInCell; local++) {
         int a = firstOfCell+local;
-        Vec3 q = positions[a];
+        double q[3] = {sortedX[a], sortedY[a], sortedZ[a]};
         int* close = candidates.closeIndex.data();
         int numClose = CpuDPDDistanceFilter::findClose(candidates.x.data(), candidates.y.data(), candidates.z.data(), local+1,
-                                                       numCandidates, &q[0], radius2, close);
+                                                       numCandidates, q, radius2, close);
         std::size_t base = buffer.size;
         for (int n = 0; n < numClose; n++) {
             int k = close[n];
