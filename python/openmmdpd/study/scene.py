@@ -21,6 +21,19 @@ else:  # pragma: no cover
 #: Methods a scene may name: the plugin's schemes with the scene's own conservative force, ABOBA with
 #: the soft force written as an OpenMM CustomNonbondedForce, and OpenMM's built-in DPDIntegrator.
 METHODS = ("VV", "S1", "ABOBA", "ABOBA-CustomNonbonded", "OpenMM-DPD")
+#: What each method label means (the report's legend).
+METHOD_DESCRIPTIONS = {
+    "VV": "openmmdpd.DPDIntegrator, scheme VV (velocity Verlet, dissipative and random forces reused; "
+          "Shang 2021 eq. 2.3), with the scene's conservative force (soft fluid: openmmdpd.DPDForce)",
+    "S1": "openmmdpd.DPDIntegrator, scheme S1 (Shardlow's DPD-S1, O-B-A-B with pairwise BBK updates; "
+          "eqs. 2.9-2.13), with the scene's conservative force",
+    "ABOBA": "openmmdpd.DPDIntegrator, scheme ABOBA (exact pairwise Ornstein-Uhlenbeck sweep; eqs. 2.18-2.24), "
+             "with the scene's conservative force",
+    "ABOBA-CustomNonbonded": "openmmdpd.DPDIntegrator, scheme ABOBA, soft force as an OpenMM CustomNonbondedForce "
+                             "(the cost of the force seen apart from the accuracy of the scheme)",
+    "OpenMM-DPD": "OpenMM's built-in openmm.DPDIntegrator (its Reference kernel, also on the CPU platform), "
+                  "soft force as a CustomNonbondedForce",
+}
 OBSERVABLES = ("configurational_temperature", "kinetic_temperature", "rdf", "pressure")
 
 
