@@ -5,13 +5,15 @@ The studies (``python -m openmmdpd.study``, ``python -m openmmdpd.transport``) h
 :func:`run_resumable`.  By default a ``dask.distributed.LocalCluster`` of ``--workers`` processes
 (one thread each) runs them; ``--scheduler ADDRESS`` sends them to a cluster the user already runs
 (for example one started by ``dask-jobqueue`` on SLURM).  Each run carries its own seed, so results
-do not depend on the number of workers or on the order in which runs finish.
+do not depend on the number of workers or on the order in which runs finish.  A saved run is reused
+only when its function, arguments (scene, budget, seed) and the installed package's code are the same.
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import hashlib
 import json
 import logging
@@ -51,11 +53,24 @@ def dask_client(workers: int, scheduler: Optional[str] = None) -> Iterator["dist
         yield client
 
 
+@functools.lru_cache(maxsize=None)
+def code_digest() -> str:
+    """A digest of the installed package's files (compiled plugin and Python): results saved by
+    another build of openmmdpd are not reused."""
+    package = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    for path in sorted(package.rglob("*")):
+        if path.is_file() and path.suffix in (".py", ".so"):
+            digest.update(str(path.relative_to(package)).encode())
+            digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
 def fingerprint(run: Run) -> str:
-    """A digest of a run's function and arguments (dataclasses and numbers have stable reprs): a saved
-    result is reused only for the same run."""
+    """A digest of a run's function and arguments (dataclasses and numbers have stable reprs) and of
+    the package's code: a saved result is reused only for the same run by the same build."""
     function, arguments = run
-    text = f"{function.__module__}.{function.__qualname__}{arguments!r}"
+    text = f"{code_digest()}:{function.__module__}.{function.__qualname__}{arguments!r}"
     return hashlib.sha256(text.encode()).hexdigest()
 
 
