@@ -9,9 +9,11 @@ import sys
 import time
 from pathlib import Path
 
+import openmm
 import pytest
 
-from openmmdpd.resumable_runs import Run, fingerprint, run_resumable
+from openmmdpd.resumable_runs import fingerprint, run_resumable
+from openmmdpd.study.scene import METHOD_DESCRIPTIONS
 
 SCENE = Path(__file__).resolve().parent / "data" / "tiny_soft_fluid.toml"
 RUNS = 2 * 4  # methods x runs in the scene's "tiny" budget
@@ -41,6 +43,10 @@ def test_a_killed_study_resumes_to_the_same_results(tmp_path):
     uninterrupted, resumed = tmp_path / "uninterrupted", tmp_path / "resumed"
     subprocess.run(study(uninterrupted, workers=2), check=True, capture_output=True, timeout=300)
     assert finished_runs(uninterrupted) == RUNS
+    report = (uninterrupted / "report.md").read_text()  # it reads on its own: legend, machine, OpenMM, threads
+    assert f"- **VV**: {METHOD_DESCRIPTIONS['VV']}" in report and f"- **ABOBA**: {METHOD_DESCRIPTIONS['ABOBA']}" in report
+    assert "OpenMM-DPD" not in report  # only the scene's methods
+    assert f"OpenMM {openmm.__version__}" in report and "1 thread(s) per run" in report and "logical cores" in report
 
     killed = subprocess.Popen(study(resumed, workers=1), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                               start_new_session=True)
