@@ -1,21 +1,32 @@
 # The two commands of the README: `make demo` and `make test`.  Each installs what is missing,
-# builds, and runs.
+# builds, installs the package openmmdpd into $(PYTHON)'s environment, and runs.
 PYTHON ?= python3
 BUILD ?= build
 JOBS ?= 2
-export PYTHONPATH := $(CURDIR)/$(BUILD)/python$(if $(PYTHONPATH),:$(PYTHONPATH))
 export PYTHON
+# The build and the C++ tests share $(BUILD) with pip's build of the package (one build, not two).
+export CMAKE_GENERATOR ?= Unix Makefiles
+export CMAKE_BUILD_PARALLEL_LEVEL := $(JOBS)
 
-.PHONY: all deps build test test-cpp test-python demo study-full transport bench clean
+.PHONY: all deps build install test test-cpp test-python test-installed docs demo study-full transport bench clean
 
 all: build
 
 deps:
 	@bash tools/install-dependencies.sh
 
+# Builds (incrementally, in $(BUILD), with the C++ tests and examples) and installs openmmdpd into
+# $(PYTHON)'s environment with pip, against the OpenMM that environment has.  Every make reinstalls
+# it from this tree, so the installed copy is never older than the sources.
 build: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$$(command -v $(PYTHON)) > $(BUILD).configure.log 2>&1 || (cat $(BUILD).configure.log; exit 1)
-	@cmake --build $(BUILD) -j$(JOBS)
+	@echo "Building and installing openmmdpd into $$($(PYTHON) -c 'import sys; print(sys.prefix)') (log: $(BUILD).install.log)"
+	@$(PYTHON) -m pip install --no-deps --no-build-isolation --force-reinstall --no-index -v . \
+		-Cbuild-dir=$(BUILD) \
+		-Ccmake.define.OPENMMDPD_BUILD_TESTS=ON -Ccmake.define.OPENMMDPD_BUILD_EXAMPLES=ON \
+		> $(BUILD).install.log 2>&1 || (tail -n 60 $(BUILD).install.log; exit 1)
+	@cd / && $(PYTHON) -c "import openmmdpd; print('Installed', openmmdpd.__file__)"
+
+install: build
 
 test-cpp: build
 	ctest --test-dir $(BUILD) --output-on-failure -j$(JOBS)
@@ -24,6 +35,15 @@ test-python: build
 	$(PYTHON) -m pytest tests/python -q
 
 test: test-cpp test-python
+
+# The package as a user gets it: imported from outside the clone, and the README's example run there.
+test-installed: build
+	@bash tools/check-installed.sh
+
+# API documentation (Sphinx, from the docstrings of the installed package); warnings are errors.
+docs: build
+	$(PYTHON) -m sphinx -W --keep-going -q -b html docs $(BUILD)/docs/html
+	@echo "Documentation: $(BUILD)/docs/html/index.html"
 
 SCENES = examples/scenes/soft_fluid_gamma4.5.toml examples/scenes/soft_fluid_gamma40.5.toml \
          examples/scenes/soft_fluid_gamma200.toml examples/scenes/soft_fluid_gamma450.toml \
@@ -49,4 +69,4 @@ bench: build
 	$(PYTHON) benchmarks/scaling.py --out benchmarks/scaling-results.md
 
 clean:
-	rm -rf $(BUILD) $(BUILD).configure.log
+	rm -rf $(BUILD) $(BUILD).install.log

@@ -22,10 +22,12 @@ from ._observables import (  # noqa: E402
     virial_pressure,
 )
 from ._scenes import REDUCED_TEMPERATURE, lj_fluid, soft_fluid  # noqa: E402
+from ._dpd_reporter import DPDReporter  # noqa: E402
 
 __all__ = [
     "DPDForce",
     "DPDIntegrator",
+    "DPDReporter",
     "SCHEMES",
     "TransportStatistics",
     "ColourDrift",

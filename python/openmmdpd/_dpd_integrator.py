@@ -12,23 +12,42 @@ from ._type_pairs import TypePairMethods
 from ._units import Number, value_in
 
 SCHEMES: Tuple[str, ...] = ("VV", "S1", "ABOBA")
+"""The schemes a DPDIntegrator runs."""
 
 
 class TransportStatistics(NamedTuple):
-    """Sums over the steps since the Context was made or resetTransportStatistics() was called."""
+    """Sums over the steps since the Context was made or resetTransportStatistics() was called.
+
+    Attributes
+    ----------
+    steps : int
+        Steps summed over.
+    response_sum : float
+        Sum of the response ``R = G(q) . p`` at the end of each step, in nm/ps (NEMD; the constant
+        ``r`` under Norton).
+    forcing_sum : float
+        Sum of Norton's ``lambda = l / dt`` (Wu & Shang eq. 70), in kJ/mol/nm (the units of NEMD's
+        forcing strength).
+    last_response : float
+        ``R`` after the last step, in nm/ps.
+    last_forcing : float
+        ``lambda`` of the last step, in kJ/mol/nm.
+    """
 
     steps: int
-    response_sum: float   # sum of R = G . p at the end of each step (NEMD; constant r under Norton)
-    forcing_sum: float    # sum of Norton's lambda = l / dt (eq. 70)
+    response_sum: float
+    forcing_sum: float
     last_response: float
     last_forcing: float
 
     @property
     def mean_response(self) -> float:
+        """``response_sum / steps``, in nm/ps (NaN before the first step)."""
         return self.response_sum / self.steps if self.steps else float("nan")
 
     @property
     def mean_forcing(self) -> float:
+        """``forcing_sum / steps``, in kJ/mol/nm (NaN before the first step)."""
         return self.forcing_sum / self.steps if self.steps else float("nan")
 _FRICTION_UNIT = unit.amu / unit.picosecond
 
@@ -37,11 +56,24 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
     """Dissipative particle dynamics with velocity Verlet ("VV", eq. 2.3), Shardlow's DPD-S1 ("S1",
     eqs. 2.9-2.13) or ABOBA ("ABOBA", eqs. 2.18-2.24) of Shang (2021).
 
-    temperature (K), friction gamma (amu/ps), dissipative cutoff (nm) and step_size (ps) take numbers
-    or Quantities; per-type-pair frictions and cutoffs with setParticleType/addTypePair.  The B step
-    uses the total force of the Context, so any OpenMM force may supply the conservative part.
-    A step that produces non-finite positions or velocities raises openmm.OpenMMException naming
-    the step, the scheme and the step size.
+    Per-type-pair frictions and cutoffs with ``setParticleType``/``addTypePair``.  The B step uses
+    the total force of the Context, so any OpenMM force may supply the conservative part.  A step
+    that produces non-finite positions or velocities raises ``openmm.OpenMMException`` naming the
+    step, the scheme and the step size.
+
+    Parameters
+    ----------
+    temperature : float or Quantity
+        The heat bath's temperature, in K (> 0); ``openmmdpd.REDUCED_TEMPERATURE`` gives kT = 1 kJ/mol.
+    friction : float or Quantity
+        The friction ``gamma`` of pairs without a type-pair override, in amu/ps (>= 0); for unit
+        masses it equals the ``friction`` of OpenMM's own DPDIntegrator.
+    cutoff : float or Quantity
+        The dissipative cutoff of those pairs, in nm (> 0).
+    step_size : float or Quantity
+        The step size, in ps (> 0).
+    scheme : str
+        ``"VV"``, ``"S1"`` or ``"ABOBA"``.
     """
 
     def __init__(self, temperature: Number, friction: Number, cutoff: Number, step_size: Number,
@@ -52,7 +84,8 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
 
     @staticmethod
     def cast(integrator: openmm.Integrator) -> "DPDIntegrator":
-        """View an Integrator that is a DPDIntegrator (e.g. from XmlSerializer.deserialize) as one."""
+        """View an Integrator that is a DPDIntegrator (e.g. from ``XmlSerializer.deserialize``) as one;
+        raises TypeError for any other integrator."""
         if not _openmmdpd.is_dpd_integrator(integrator):
             raise TypeError(f"{integrator!r} is not a DPDIntegrator")
         view = DPDIntegrator.__new__(DPDIntegrator)
@@ -63,62 +96,79 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
         return _openmmdpd.integrator_table(self)
 
     def getScheme(self) -> str:
+        """``"VV"``, ``"S1"`` or ``"ABOBA"``."""
         return _openmmdpd.integrator_get_scheme(self)
 
     def getTemperature(self) -> float:
+        """The heat bath's temperature, in K."""
         return _openmmdpd.integrator_get_temperature(self)
 
     def setTemperature(self, temperature: Number) -> None:
+        """Set the heat bath's temperature, in K (> 0)."""
         _openmmdpd.integrator_set_temperature(self, value_in(temperature, unit.kelvin))
 
     def getDefaultFriction(self) -> float:
+        """The friction of pairs without a type-pair override, in amu/ps."""
         return self._table().getDefaultValue()
 
     def setDefaultFriction(self, friction: Number) -> None:
+        """Set the default friction, in amu/ps (>= 0)."""
         self._table().setDefaultValue(value_in(friction, _FRICTION_UNIT))
 
     def addTypePair(self, type1: int, type2: int, friction: Number, cutoff: Number) -> int:
+        """Override the friction (amu/ps, >= 0) and the dissipative cutoff (nm, > 0) for pairs of particle
+        types ``type1`` and ``type2`` (in either order); returns the override's index."""
         return self._table().addTypePair(type1, type2, value_in(friction, _FRICTION_UNIT), value_in(cutoff, unit.nanometer))
 
     def setTypePairParameters(self, index: int, type1: int, type2: int, friction: Number, cutoff: Number) -> None:
+        """Change override ``index``: types, friction (amu/ps) and cutoff (nm)."""
         self._table().setTypePairParameters(index, type1, type2, value_in(friction, _FRICTION_UNIT),
                                             value_in(cutoff, unit.nanometer))
 
     def getRandomNumberSeed(self) -> int:
+        """The seed of the random forces (0: a new seed for every Context)."""
         return _openmmdpd.integrator_get_seed(self)
 
     def setRandomNumberSeed(self, seed: int) -> None:
+        """Set the seed of the random forces (0: a new seed for every Context)."""
         _openmmdpd.integrator_set_seed(self, seed)
 
     def setNEMD(self, profile: _openmmdpd.DPDForcingProfile, forcing: float) -> None:
-        """NEMD with ABOBA (Wu & Shang eq. 6): add forcing * F(q) to both B half-steps."""
+        """NEMD with ABOBA (Wu & Shang eq. 6): add ``forcing * F(q)`` to both B half-steps.
+
+        ``profile`` is a ColourDrift, TwoDrifts or ShearProfile (F is dimensionless); ``forcing`` is
+        the strength ``eta``, in kJ/mol/nm (finite)."""
         _openmmdpd.integrator_set_nemd(self, profile, forcing)
 
     def setNorton(self, profile: _openmmdpd.DPDForcingProfile, response: float) -> None:
-        """Norton dynamics with ABOBA (eqs. 11, 52-69): hold R = G(q) . p at `response`."""
+        """Norton dynamics with ABOBA (eqs. 11, 52-69): hold ``R = G(q) . p`` at ``response``, in
+        nm/ps (finite).  ``profile`` as for :meth:`setNEMD`."""
         _openmmdpd.integrator_set_norton(self, profile, response)
 
     def clearForcing(self) -> None:
+        """Turn NEMD or Norton forcing off."""
         _openmmdpd.integrator_clear_forcing(self)
 
     def getForcing(self) -> Tuple[str, str, float]:
-        """(mode "none"/"NEMD"/"Norton", profile type, eta or r)."""
+        """(mode ``"none"``/``"NEMD"``/``"Norton"``, profile type, ``eta`` in kJ/mol/nm or ``r`` in nm/ps)."""
         return _openmmdpd.integrator_forcing(self)
 
     def getTransportStatistics(self) -> TransportStatistics:
+        """The sums of R and lambda since the last reset (part of checkpoints)."""
         return TransportStatistics(*_openmmdpd.integrator_transport_statistics(self))
 
     def getNortonForcing(self) -> Tuple[float, float]:
-        """lambda of the last step (eq. 70) and its running average (eq. 71)."""
+        """Norton's ``lambda`` of the last step (eq. 70) and its running average (eq. 71), in kJ/mol/nm."""
         statistics = self.getTransportStatistics()
         return statistics.last_forcing, statistics.mean_forcing
 
     def getResponse(self) -> Tuple[float, float]:
-        """R = G . p after the last step and its running average (NEMD's eq. 9 numerator)."""
+        """``R = G . p`` after the last step and its running average (NEMD's eq. 9 numerator), in nm/ps."""
         statistics = self.getTransportStatistics()
         return statistics.last_response, statistics.mean_response
 
     def resetTransportStatistics(self) -> None:
+        """Start the sums of R and lambda afresh (e.g. after equilibration)."""
         _openmmdpd.integrator_reset_transport_statistics(self)
 
     def __repr__(self) -> str:

@@ -6,9 +6,25 @@ import os
 
 import openmm
 
+from ._build_info import OPENMM_VERSION as BUILT_AGAINST_OPENMM
+
 _PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 KERNEL_LIBRARIES = ("libOpenMMDPDReference.so", "libOpenMMDPDCPU.so")
 _loaded = False
+
+
+def _major_minor(version: str) -> str:
+    return ".".join(version.split(".")[:2])
+
+
+def check_openmm_version(running: str = openmm.__version__, built_against: str = BUILT_AGAINST_OPENMM) -> None:
+    """Raise ImportError when the running OpenMM's major.minor differs from the one the plugin was
+    compiled against (OpenMM's C++ ABI is not stable across minor versions)."""
+    if _major_minor(running) != _major_minor(built_against):
+        raise ImportError(
+            f"openmmdpd was compiled against OpenMM {built_against} but this Python runs OpenMM {running}; "
+            "rebuild it against the OpenMM you have: pip install --no-build-isolation --force-reinstall "
+            "/path/to/openmm-dpd (or run make there)")
 
 
 def load_kernels() -> None:
@@ -16,6 +32,7 @@ def load_kernels() -> None:
     global _loaded
     if _loaded:
         return
+    check_openmm_version()
     for name in KERNEL_LIBRARIES:
         openmm.Platform.loadPluginLibrary(os.path.join(_PACKAGE_DIR, name))
     _loaded = True

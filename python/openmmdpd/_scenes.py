@@ -12,13 +12,27 @@ from ._dpd_force import DPDForce
 
 #: 1/k_B in K: the temperature at which kT = 1 kJ/mol, DPD's reduced temperature (120.27 K).
 REDUCED_TEMPERATURE: float = 1.0 / unit.MOLAR_GAS_CONSTANT_R.value_in_unit(unit.kilojoule_per_mole / unit.kelvin)
+"""1/k_B in K: the temperature at which kT = 1 kJ/mol, DPD's reduced temperature (120.27 K)."""
 
 
 def soft_fluid(num_particles: int = 500, density: float = 3.0, a: float = 25.0, cutoff: float = 1.0,
                seed: Optional[int] = 1) -> Tuple[openmm.System, unit.Quantity]:
-    """The soft DPD fluid of Shang 2021 sec. 3.1: unit masses (amu), a DPDForce with repulsion a
-    (kJ/mol/nm) and cutoff (nm), a cubic periodic box at the given number density (nm^-3) and
-    uniformly random positions.  Returns (system, positions in nm)."""
+    """The soft DPD fluid of Shang 2021 sec. 3.1: unit masses (amu), a DPDForce, a cubic periodic box
+    and uniformly random positions.  Returns (system, positions in nm).
+
+    Parameters
+    ----------
+    num_particles : int
+        Particles (>= 2).
+    density : float
+        Number density, in nm^-3 (> 0).
+    a : float
+        The DPDForce's repulsion, in kJ/mol/nm.
+    cutoff : float
+        The DPDForce's cutoff, in nm (> 0).
+    seed : int or None
+        Seed of the random positions (None: a fresh one).
+    """
     if num_particles < 2:
         raise ValueError(f"num_particles = {num_particles} is out of range; it must be >= 2")
     if not density > 0:
@@ -35,10 +49,24 @@ def soft_fluid(num_particles: int = 500, density: float = 3.0, a: float = 25.0, 
 
 def lj_fluid(num_particles: int = 500, density: float = 0.85, epsilon: float = 1.0, sigma: float = 1.0,
              cutoff: float = 2.5) -> Tuple[openmm.System, unit.Quantity]:
-    """The Lennard-Jones DPD fluid of Wu & Shang sec. 4.1: unit masses, the C1-truncated LJ potential
-    phi(r) = u(r) - u(r_c) - u'(r_c)(r - r_c) for r < r_c (eqs. 72-74) as an OpenMM
-    CustomNonbondedForce, a cubic periodic box at the given density, particles on a cubic lattice
-    with equal spacing.  Returns (system, positions in nm)."""
+    """The Lennard-Jones DPD fluid of Wu & Shang sec. 4.1: unit masses (amu), the C1-truncated LJ
+    potential ``phi(r) = u(r) - u(r_c) - u'(r_c)(r - r_c)`` for ``r < r_c`` (eqs. 72-74) as an OpenMM
+    CustomNonbondedForce, a cubic periodic box, particles on a cubic lattice with equal spacing.
+    Returns (system, positions in nm).
+
+    Parameters
+    ----------
+    num_particles : int
+        Particles (>= 2).
+    density : float
+        Number density, in nm^-3 (> 0).
+    epsilon : float
+        LJ well depth, in kJ/mol.
+    sigma : float
+        LJ diameter, in nm.
+    cutoff : float
+        Truncation distance ``r_c``, in nm (> 0, at most half the box).
+    """
     if num_particles < 2:
         raise ValueError(f"num_particles = {num_particles} is out of range; it must be >= 2")
     box = (num_particles / density) ** (1.0 / 3.0)

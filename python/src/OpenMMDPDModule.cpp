@@ -121,10 +121,13 @@ NB_MODULE(_openmmdpd, m) {
         "the response is the matching part of the velocity's first Fourier mode (eq. 89)")
         .def("__init__", [](DPDShearProfile* self, const std::string& shape) {
             new (self) DPDShearProfile(DPDShearProfile::shapeFromName(shape));
-        }, nb::arg("shape") = "sinusoidal")
-        .def("getShape", [](const DPDShearProfile& p) { return DPDShearProfile::shapeName(p.getShape()); })
-        .def("getFirstFourierCoefficient", &DPDShearProfile::getFirstFourierCoefficient)
-        .def("profile", &DPDShearProfile::profile, nb::arg("y"), nb::arg("box_height"));
+        }, nb::arg("shape") = "sinusoidal", "shape: 'sinusoidal', 'piecewise_linear' or 'piecewise_constant'")
+        .def("getShape", [](const DPDShearProfile& p) { return DPDShearProfile::shapeName(p.getShape()); },
+             "The shape's name")
+        .def("getFirstFourierCoefficient", &DPDShearProfile::getFirstFourierCoefficient,
+             "The first Fourier coefficient F_1 of the profile f (eq. 88), dimensionless")
+        .def("profile", &DPDShearProfile::profile, nb::arg("y"), nb::arg("box_height"),
+             "f(y) (dimensionless) at height y (nm) in a box of height box_height (nm)");
 
     m.def("integrator_set_nemd", [](nb::handle proxy, const DPDForcingProfile& profile, double forcing) {
         integratorOf(proxy).setNEMD(profile, forcing);

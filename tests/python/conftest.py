@@ -1,4 +1,5 @@
-"""Shared fixtures: the package under test is the built one (make puts build/python on PYTHONPATH)."""
+"""Shared fixtures.  The package under test is the INSTALLED one (make pip-installs it into the
+environment that runs pytest); test_installed_package.py checks that it is this tree's."""
 
 import openmm as mm
 import pytest

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from openmmdpd.transport import mobility_from_msd, nemd_coefficient, norton_coefficient
-from openmmdpd.transport.__main__ import tasks_of
+from openmmdpd.transport.__main__ import decode_result, encode_result, run_name, tasks_of
 from openmmdpd.transport.estimators import viscosity
+from openmmdpd.transport.runner import Task, TaskResult
 from openmmdpd.transport.scene import load_transport_scene
 
 SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "transport_lj_fluid.toml"
@@ -50,3 +51,12 @@ def test_transport_scene_and_its_tasks():
     # per run: 2 MSD, 4+4 forcing strengths at the first friction, 1+1 at the second, 3 profiles x 2 methods x 2 frictions
     assert len(tasks) == 2 * (2 + 8 + 2 + 12)
     assert scene.box_height() == pytest.approx((500 / 0.85) ** (1 / 3))
+
+
+def test_every_transport_run_has_its_own_file_and_survives_the_round_trip():
+    import json
+
+    tasks = tasks_of(load_transport_scene(SCENE), runs=2)
+    assert len({run_name(task) for task in tasks}) == len(tasks)
+    result = TaskResult(Task("Norton", 4.5, "ColourDrift", 0.2, 1), block_means=[0.1, 1 / 3])
+    assert decode_result(json.loads(json.dumps(encode_result(result)))) == result

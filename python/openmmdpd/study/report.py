@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import csv
 import json
+import os
+import platform
 from collections import defaultdict
 from pathlib import Path
 from typing import Dict, List, Optional
@@ -14,7 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .scene import Scene  # noqa: E402
+from .scene import METHOD_DESCRIPTIONS, Scene  # noqa: E402
 from .statistics import configurational_relative_error, critical_step_size  # noqa: E402
 from .sweep import RunResult  # noqa: E402
 
@@ -153,12 +155,37 @@ def plot_rdf(summary: Dict, scene: Scene, folder: Path) -> Optional[str]:
     return name
 
 
+def machine_description() -> Dict[str, object]:
+    """The processor, its logical cores, the operating system, Python's and OpenMM's versions."""
+    import openmm
+
+    processor = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as cpuinfo:
+            processor = next(line.split(":", 1)[1].strip() for line in cpuinfo if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return {"processor": processor, "logical_cores": os.cpu_count(), "system": platform.platform(),
+            "python": platform.python_version(), "openmm": openmm.__version__}
+
+
+def legend(scenes: List[Scene]) -> List[str]:
+    methods = [m for m in METHOD_DESCRIPTIONS if any(m in scene.methods for scene in scenes)]
+    return [f"- **{method}**: {METHOD_DESCRIPTIONS[method]}" for method in methods]
+
+
 def write_report(folder: Path, scenes: List[Scene], summaries: List[Dict], budget_name: str, threads: int,
-                 elapsed: float, command: str) -> Path:
+                 elapsed: float, command: str, workers: object = 1) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
+    machine = machine_description()
     parts = ["# Efficiency study: error against step size and run time", "",
              f"Command: `{command}`  ", f"Budget: **{budget_name}**; CPU platform; {threads} thread(s) per run; "
              f"wall time {elapsed / 60:.1f} min.", "",
+             f"Machine: {machine['processor']}, {machine['logical_cores']} logical cores, {machine['system']}; "
+             f"OpenMM {machine['openmm']}, Python {machine['python']}. Runs on a Dask cluster "
+             f"({workers if isinstance(workers, str) else f'{workers} local worker process(es)'}), one run and one "
+             f"OpenMM thread per worker at a time; time per step measured in one process, one thread.", "",
+             "Methods:", "", *legend(scenes), "",
              "Configurational temperature (Shang 2021 eq. 3.1) measured at the positions the Context holds after a "
              "step (q^{n+1}), never at ABOBA's half-step positions. Critical step size: 10% relative error, "
              "interpolated in log-log between bracketing step sizes (or the last stable step size when a method "
@@ -175,7 +202,10 @@ def write_report(folder: Path, scenes: List[Scene], summaries: List[Dict], budge
             parts.append(f"![{rdf}]({rdf})")
         parts.append("")
     (folder / "report.md").write_text("\n".join(parts))
-    (folder / "results.json").write_text(json.dumps({"budget": budget_name, "threads": threads, "scenes": summaries}, indent=1))
+    (folder / "results.json").write_text(json.dumps({"budget": budget_name, "threads": threads, "machine": machine,
+                                                        "methods": {m: METHOD_DESCRIPTIONS[m] for m in METHOD_DESCRIPTIONS
+                                                                    if any(m in sc.methods for sc in scenes)},
+                                                        "scenes": summaries}, indent=1))
     with open(folder / "results.csv", "w", newline="") as file:
         writer = csv.writer(file)
         writer.writerow(["scene", "method", "step_size", "runs", "relative_error", "error_bar", "kinetic_temperature",

@@ -21,11 +21,40 @@ else:  # pragma: no cover
 #: Methods a scene may name: the plugin's schemes with the scene's own conservative force, ABOBA with
 #: the soft force written as an OpenMM CustomNonbondedForce, and OpenMM's built-in DPDIntegrator.
 METHODS = ("VV", "S1", "ABOBA", "ABOBA-CustomNonbonded", "OpenMM-DPD")
+#: What each method label means (the report's legend).
+METHOD_DESCRIPTIONS = {
+    "VV": "openmmdpd.DPDIntegrator, scheme VV (velocity Verlet, dissipative and random forces reused; "
+          "Shang 2021 eq. 2.3), with the scene's conservative force (soft fluid: openmmdpd.DPDForce)",
+    "S1": "openmmdpd.DPDIntegrator, scheme S1 (Shardlow's DPD-S1, O-B-A-B with pairwise BBK updates; "
+          "eqs. 2.9-2.13), with the scene's conservative force",
+    "ABOBA": "openmmdpd.DPDIntegrator, scheme ABOBA (exact pairwise Ornstein-Uhlenbeck sweep; eqs. 2.18-2.24), "
+             "with the scene's conservative force",
+    "ABOBA-CustomNonbonded": "openmmdpd.DPDIntegrator, scheme ABOBA, soft force as an OpenMM CustomNonbondedForce "
+                             "(the cost of the force seen apart from the accuracy of the scheme)",
+    "OpenMM-DPD": "OpenMM's built-in openmm.DPDIntegrator (its Reference kernel, also on the CPU platform), "
+                  "soft force as a CustomNonbondedForce",
+}
 OBSERVABLES = ("configurational_temperature", "kinetic_temperature", "rdf", "pressure")
 
 
 @dataclass
 class Budget:
+    """A scene file's ``[budget.NAME]`` table.  Times in ps (DPD's time unit in reduced units).
+
+    Attributes
+    ----------
+    time : float
+        Simulated time per run, in ps.
+    runs : int
+        Independent runs per method and step size.
+    discard : float
+        Fraction of each run discarded as equilibration (0 to 1).
+    sample_interval : float
+        Time between samples, in ps.
+    stepsize_growth : float
+        Factor between successive step sizes (> 1).
+    """
+
     time: float             # simulated time units per run
     runs: int               # independent runs per (method, step size)
     discard: float          # fraction of each run discarded as equilibration
@@ -35,6 +64,11 @@ class Budget:
 
 @dataclass
 class Scene:
+    """A scene file of the efficiency study: the system (``kind``, ``num_particles``, ``density`` in
+    nm^-3, ``a`` in kJ/mol/nm, ``cutoff`` in nm), the friction (amu/ps) and dissipative cutoff (nm),
+    the methods, the first and last step sizes and the timing step size (ps), the observables, the
+    RDF's range (nm) and bins, and the budgets."""
+
     name: str
     title: str
     system: Dict[str, float]
@@ -49,18 +83,21 @@ class Scene:
     budgets: Dict[str, Budget] = field(default_factory=dict)
 
     def stepsize_grid(self, budget: Budget) -> np.ndarray:
+        """The step sizes (ps) from the first to the last, up by the budget's growth factor."""
         first, last = self.stepsizes
         count = int(np.floor(np.log(last / first) / np.log(budget.stepsize_growth) + 1e-9)) + 1
         return first * budget.stepsize_growth ** np.arange(count)
 
     def build(self, method: str, seed: int) -> Tuple[mm.System, np.ndarray, mm.Integrator]:
-        """The System (with the conservative force the method uses), positions and integrator."""
+        """The System (with the conservative force the method uses), positions (nm) and integrator
+        (at the timing step size); ``seed`` seeds the positions and the random forces."""
         system, positions = make_fluid(self.system, seed)
         if self.system["kind"] == "soft_fluid" and method in ("ABOBA-CustomNonbonded", "OpenMM-DPD"):
             replace_with_custom_soft_force(system, self.system["a"], self.system["cutoff"])
         return system, positions, self.integrator(method, self.timing_stepsize, seed)
 
     def integrator(self, method: str, step_size: float, seed: int) -> mm.Integrator:
+        """The integrator of ``method`` at ``step_size`` (ps), its random forces seeded with ``seed``."""
         if method == "OpenMM-DPD":
             integrator = mm.DPDIntegrator(dpd.REDUCED_TEMPERATURE, self.friction, self.dissipative_cutoff, step_size)
         else:
@@ -84,6 +121,8 @@ def replace_with_custom_soft_force(system: mm.System, a: float, cutoff: float) -
 
 
 def load_scene(path: Path) -> Scene:
+    """Read a scene file (TOML, e.g. ``examples/scenes/soft_fluid_gamma4.5.toml``); unknown methods or
+    observables raise ValueError naming them and the allowed ones."""
     with open(path, "rb") as file:
         data = tomllib.load(file)
     methods = list(data["dynamics"]["methods"])

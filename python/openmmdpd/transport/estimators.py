@@ -14,6 +14,23 @@ from ..study.statistics import block_standard_error
 
 @dataclass
 class TransportEstimate:
+    """A transport coefficient from NEMD or Norton runs.
+
+    Attributes
+    ----------
+    value : float
+        The coefficient: the mobility alpha in (nm/ps)/(kJ/mol/nm), or the response per unit
+        forcing for a shear profile.
+    error : float
+        Its standard error, same units.
+    mean : float
+        ``E[R]`` (NEMD, nm/ps) or ``E[lambda]`` (Norton, kJ/mol/nm).
+    mean_error : float
+        Its standard error.
+    asymptotic_variance : float
+        Of the coefficient's estimator: ``T Var(estimate)`` for long runs of total time ``T`` (ps).
+    """
+
     value: float               # the transport coefficient (mobility alpha, or U_1 per unit forcing)
     error: float               # its standard error
     mean: float                # E[R] (NEMD) or E[lambda] (Norton)
@@ -34,27 +51,31 @@ def _pooled_mean(block_means_per_run: Sequence[np.ndarray], block_time: float):
 
 
 def nemd_coefficient(forcing: float, response_block_means: Sequence[np.ndarray], block_time: float) -> TransportEstimate:
-    """alpha = E_eta[R] / eta (eq. 9)."""
+    """``alpha = E_eta[R] / eta`` (eq. 9) from block means of R (nm/ps) of independent runs at forcing
+    ``eta`` (kJ/mol/nm); ``block_time`` in ps."""
     mean, error, variance = _pooled_mean(response_block_means, block_time)
     return TransportEstimate(mean / forcing, error / abs(forcing), mean, error, variance / forcing**2)
 
 
 def norton_coefficient(response: float, forcing_block_means: Sequence[np.ndarray], block_time: float) -> TransportEstimate:
-    """alpha* = r / E*_r[lambda] (eq. 16); error and variance by the delta method."""
+    """``alpha* = r / E*_r[lambda]`` (eq. 16) from block means of lambda (kJ/mol/nm) of independent
+    runs at response ``r`` (nm/ps); ``block_time`` in ps.  Error and variance by the delta method."""
     mean, error, variance = _pooled_mean(forcing_block_means, block_time)
     return TransportEstimate(response / mean, abs(response) * error / mean**2, mean, error, response**2 * variance / mean**4)
 
 
 def viscosity(density: float, fourier_coefficient: float, box_height: float, u1: float, u1_error: float):
-    """nu = rho F_1 / U_1 (L_y / 2 pi)^2 (eq. 87), with U_1 the response per unit forcing."""
+    """``nu = rho F_1 / U_1 (L_y / 2 pi)^2`` (eq. 87): density in nm^-3, F_1 dimensionless, box height in
+    nm, U_1 the response per unit forcing; returns (nu, its error)."""
     scale = density * (box_height / (2 * np.pi)) ** 2
     nu = scale * fourier_coefficient / u1
     return float(nu), float(abs(nu) * u1_error / abs(u1))
 
 
 def mobility_from_msd(times: np.ndarray, msd_per_run: Sequence[np.ndarray], kT: float = 1.0, fit_from: float = 0.3):
-    """alpha = beta D with D = lim MSD(t) / (6 t) (eqs. 78-80): the slope of a linear fit to the later
-    part of each run's MSD curve; mean and standard error over runs."""
+    """``alpha = beta D`` with ``D = lim MSD(t) / (6 t)`` (eqs. 78-80): the slope of a linear fit to the
+    later part (``t >= fit_from * t_max``) of each run's MSD curve (nm^2, times in ps); ``kT`` in
+    kJ/mol.  Returns the mean and standard error over runs."""
     slopes = []
     for msd in msd_per_run:
         keep = times >= fit_from * times[-1]
