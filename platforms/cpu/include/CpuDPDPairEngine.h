@@ -21,7 +21,7 @@ namespace OpenMMDPD {
  * within a cell, its particles in sorted order, each with the cell itself and then its 13 half-stencil
  * neighbours.  It depends only on the positions, not on the number of threads, and every sum a
  * particle receives is taken in that order: trajectories are bit-identical for any thread count.
- * Positions of the pairs are held as displacements d = q_i - q_j in double precision.
+ * Each pair is held as its unit vector e_ij = (q_i - q_j)/r_ij and distance, in double precision.
  */
 class CpuDPDPairEngine : public DPDPairEngine {
 public:
@@ -36,11 +36,11 @@ public:
                                        std::vector<OpenMM::Vec3>& forces) override;
 
 private:
-    /** One thread's pairs, colour after colour, as sorted indices and displacements; [0, size) is in use. */
+    /** One thread's pairs, colour after colour: sorted indices, unit vectors e_ij, distances; [0, size) is in use. */
     struct PairBuffer {
         std::size_t size = 0;
         std::vector<int> i, j;
-        std::vector<double> dx, dy, dz;
+        std::vector<double> ex, ey, ez, r;
         void reserveMore(std::size_t count);
     };
     /** The particles of a cell's half stencil at their shifted positions, and the hits of the distance filter. */
@@ -78,6 +78,7 @@ private:
     std::vector<CandidateSet> candidateSets;          // one per thread
     std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its thread's buffer
     std::vector<CpuDPDPairUpdateBlock> blocks;        // one per thread
+    std::vector<double> forceMagnitudes;              // scratch of the conservative force pass
     std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order
     std::vector<OpenMM::Vec3> sortedForces, sortedVelocities, sortedResponse;
     std::vector<int> sortedRepulsionType, sortedFrictionType;

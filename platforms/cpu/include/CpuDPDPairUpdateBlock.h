@@ -9,7 +9,7 @@ namespace OpenMMDPD {
 
 /**
  * The velocity-independent half of a CPU pair sweep, in one vectorised pass: for a run of pairs,
- * the unit vectors e_ij and the affine update coefficients (slope, offset) of DPDPairFormulas.h,
+ * the affine update coefficients (slope, offset) of DPDPairFormulas.h,
  * random numbers included (R_ij = DPDPairRandom::normal(counter, i, j), drawn with the vector math
  * library).  Pairs outside their cutoff, with zero friction or between two massless particles get
  * (0, 0).  The pass works in fixed blocks of `blockSize` pairs so that every pair takes the same code
@@ -29,13 +29,13 @@ public:
     };
 
     /**
-     * Fill unit vectors and coefficients for pairs [0, count) given by sorted indices i, j and
-     * displacements d = q_i - q_j (0 < |d| < radius); the output arrays hold count rounded up to blockSize.
+     * Fill the coefficients of pairs [0, count) given by sorted indices i, j and distances r (> 0);
+     * the output arrays hold count rounded up to blockSize.
      */
     void compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count, const int* i, const int* j,
-                 const double* dx, const double* dy, const double* dz);
+                 const double* r);
 
-    std::vector<double> ex, ey, ez, slope, offset;
+    std::vector<double> slope, offset;
 };
 
 } // namespace OpenMMDPD

@@ -12,9 +12,10 @@ void CpuDPDPairEngine::PairBuffer::reserveMore(std::size_t count) {
     std::size_t capacity = std::max(2*i.size(), size+count);
     i.resize(capacity);
     j.resize(capacity);
-    dx.resize(capacity);
-    dy.resize(capacity);
-    dz.resize(capacity);
+    ex.resize(capacity);
+    ey.resize(capacity);
+    ez.resize(capacity);
+    r.resize(capacity);
 }
 
 CpuDPDPairEngine::CpuDPDPairEngine(OpenMM::ThreadPool& threads)
@@ -62,8 +63,11 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
         numCandidates += count;
     }
     int firstOfCell = cellStart[cell], numInCell = cellStart[cell+1]-firstOfCell;
+    std::size_t firstPairOfCell = buffer.size;
     buffer.reserveMore(static_cast<std::size_t>(numInCell)*numCandidates);
-    double radius2 = radius*radius, energy = 0.0;
+    if (forceMagnitudes.size() < static_cast<std::size_t>(numInCell)*numCandidates)
+        forceMagnitudes.resize(2*static_cast<std::size_t>(numInCell)*numCandidates);
+    double radius2 = radius*radius;
     for (int local = 0; local < numInCell; local++) {
         int a = firstOfCell+local;
         double q[3] = {sortedX[a], sortedY[a], sortedZ[a]};
@@ -75,28 +79,48 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
             int k = close[n];
             buffer.i[base+n] = a;
             buffer.j[base+n] = candidates.index[k];
-            buffer.dx[base+n] = q[0]-candidates.x[k];
-            buffer.dy[base+n] = q[1]-candidates.y[k];
-            buffer.dz[base+n] = q[2]-candidates.z[k];
+            buffer.ex[base+n] = q[0]-candidates.x[k]; // the displacement d, normalised below
+            buffer.ey[base+n] = q[1]-candidates.y[k];
+            buffer.ez[base+n] = q[2]-candidates.z[k];
         }
         buffer.size += numClose;
-        if (repulsion == nullptr)
-            continue;
-        // Conservative pair force a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3).
-        Vec3 forceOnA;
-        for (std::size_t n = base; n < buffer.size; n++) {
-            int b = buffer.j[n];
-            int typePair = sortedRepulsionType[a]*repulsion->numTypes+sortedRepulsionType[b];
-            double cutoff = repulsion->cutoff[typePair];
-            Vec3 d(buffer.dx[n], buffer.dy[n], buffer.dz[n]);
-            double r = std::sqrt(d.dot(d));
-            double strength = r < cutoff ? repulsion->value[typePair] : 0.0, w = 1.0-r/cutoff;
-            Vec3 force = d*(strength*w/r);
-            forceOnA += force;
-            sortedForces[b] -= force;
-            energy += 0.5*strength*cutoff*w*w;
-        }
-        sortedForces[a] += forceOnA;
+    }
+    // Distances and unit vectors e = d/r of the cell's pairs in one vector pass.
+    std::size_t cellBegin = firstPairOfCell, cellEnd = buffer.size;
+    double* __restrict ex = buffer.ex.data();
+    double* __restrict ey = buffer.ey.data();
+    double* __restrict ez = buffer.ez.data();
+    double* __restrict r = buffer.r.data();
+    for (std::size_t n = cellBegin; n < cellEnd; n++) {
+        r[n] = std::sqrt(ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n]);
+        double invR = 1.0/r[n];
+        ex[n] *= invR;
+        ey[n] *= invR;
+        ez[n] *= invR;
+    }
+    if (repulsion == nullptr)
+        return;
+    // Conservative pair force a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3):
+    // magnitudes in a vector pass, then the scatter.
+    double* __restrict magnitude = forceMagnitudes.data();
+    const int* __restrict pi = buffer.i.data();
+    const int* __restrict pj = buffer.j.data();
+    const int* __restrict type = sortedRepulsionType.data();
+    const double* __restrict strengthTable = repulsion->value.data();
+    const double* __restrict cutoffTable = repulsion->cutoff.data();
+    int numTypes = repulsion->numTypes;
+    double energy = 0.0;
+    for (std::size_t n = cellBegin; n < cellEnd; n++) {
+        int typePair = type[pi[n]]*numTypes+type[pj[n]];
+        double cutoff = cutoffTable[typePair];
+        double strength = r[n] < cutoff ? strengthTable[typePair] : 0.0, w = 1.0-r[n]/cutoff;
+        magnitude[n-cellBegin] = strength*w;
+        energy += 0.5*strength*cutoff*w*w;
+    }
+    for (std::size_t n = cellBegin; n < cellEnd; n++) {
+        Vec3 force = Vec3(ex[n], ey[n], ez[n])*magnitude[n-cellBegin];
+        sortedForces[pi[n]] += force;
+        sortedForces[pj[n]] -= force;
     }
     cellSum[cell] = energy;
 }
@@ -152,8 +176,7 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
             if (begin < end) {
                 // A thread's cells of one colour are consecutive in its buffer.
                 int first = cellPairBegin[grid.cellsInSweepOrder[begin]], last = cellPairEnd[grid.cellsInSweepOrder[end-1]];
-                block.compute(kind, sweep, particles, last-first, &buffer.i[first], &buffer.j[first], &buffer.dx[first],
-                              &buffer.dy[first], &buffer.dz[first]);
+                block.compute(kind, sweep, particles, last-first, &buffer.i[first], &buffer.j[first], &buffer.r[first]);
                 for (int k = begin; k < end; k++) {
                     int cell = grid.cellsInSweepOrder[k];
                     apply(thread, cell, cellPairBegin[cell], cellPairEnd[cell], block, first);
@@ -194,7 +217,7 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
         double responseOfDissipation = 0.0;
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
-            Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
+            Vec3 e(pairs.ex[k], pairs.ey[k], pairs.ez[k]);
             double u = e.dot(sortedVelocities[a]-sortedVelocities[b]);
             double deltaP = block.slope[n]*u + block.offset[n]; // eqs. 2.14-2.17 as an affine map of u
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
@@ -225,7 +248,7 @@ void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<V
         const PairBuffer& pairs = buffers[thread];
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
-            Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
+            Vec3 e(pairs.ex[k], pairs.ey[k], pairs.ez[k]);
             double deltaP = block.slope[n]*e.dot(sortedVelocities[a]-sortedVelocities[b]) + block.offset[n]; // eq. 2.12
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
             sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
@@ -249,7 +272,7 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
         const PairBuffer& pairs = buffers[thread];
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
-            Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
+            Vec3 e(pairs.ex[k], pairs.ey[k], pairs.ez[k]);
             Vec3 force = e*(block.slope[n]*e.dot(sortedVelocities[a]-sortedVelocities[b]) + block.offset[n]); // eqs. 2.2b, 2.2c
             sortedForces[a] += force;
             sortedForces[b] -= force;

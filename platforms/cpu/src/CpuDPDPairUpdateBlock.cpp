@@ -18,8 +18,7 @@ constexpr int B = static_cast<int>(CpuDPDPairUpdateBlock::blockSize);
  */
 template <CpuDPDPairUpdateBlock::Kind kind>
 inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,
-                   const int* __restrict pi, const int* __restrict pj, const double* __restrict dx, const double* __restrict dy,
-                   const double* __restrict dz, double* __restrict ex, double* __restrict ey, double* __restrict ez,
+                   const int* __restrict pi, const int* __restrict pj, const double* __restrict distance,
                    double* __restrict slope, double* __restrict offset) {
     const int numTypes = sweep.friction.numTypes;
     const double* __restrict gammaTable = sweep.friction.value.data();
@@ -37,11 +36,7 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
         for (int n = 0; n < B; n++) {
             std::size_t k = first+n;
             int i = pi[k], j = pj[k];
-            r[n] = std::sqrt(dx[k]*dx[k]+dy[k]*dy[k]+dz[k]*dz[k]);
-            double invR = 1.0/r[n];
-            ex[k] = dx[k]*invR;
-            ey[k] = dy[k]*invR;
-            ez[k] = dz[k]*invR;
+            r[n] = distance[k];
             int typePair = frictionType[i]*numTypes+frictionType[j];
             double cutoff = cutoffTable[typePair];
             invReducedMass[n] = inverseMass[i]+inverseMass[j];
@@ -73,14 +68,13 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
  * numbers), AVX2 and plain x86-64, chosen at run time.  The same machine always takes the same one.
  */
 using BlockPass = void (*)(std::size_t, const DPDPairSweep&, const CpuDPDPairUpdateBlock::Particles&, const int*, const int*,
-                           const double*, const double*, const double*, double*, double*, double*, double*, double*);
+                           const double*, double*, double*);
 
 #define OPENMMDPD_BLOCK_PASS(name, target)                                                                                \
     template <CpuDPDPairUpdateBlock::Kind kind>                                                                           \
     target void name(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,  \
-                     const int* pi, const int* pj, const double* dx, const double* dy, const double* dz, double* ex,       \
-                     double* ey, double* ez, double* slope, double* offset) {                                              \
-        computeBlocks<kind>(numBlocks, sweep, particles, pi, pj, dx, dy, dz, ex, ey, ez, slope, offset);                  \
+                     const int* pi, const int* pj, const double* r, double* slope, double* offset) {                      \
+        computeBlocks<kind>(numBlocks, sweep, particles, pi, pj, r, slope, offset);                                        \
     }
 OPENMMDPD_BLOCK_PASS(computeBlocksAVX512, __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,fma"))))
 OPENMMDPD_BLOCK_PASS(computeBlocksAVX2, __attribute__((target("avx2,fma"))))
@@ -100,25 +94,22 @@ BlockPass selectBlockPass() {
 } // namespace
 
 void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count,
-                                    const int* i, const int* j, const double* dx, const double* dy, const double* dz) {
+                                    const int* i, const int* j, const double* r) {
     std::size_t wholeBlocks = count/blockSize, tail = count-wholeBlocks*blockSize;
-    for (std::vector<double>* out : {&ex, &ey, &ez, &slope, &offset})
-        out->resize((wholeBlocks+1)*blockSize);
+    slope.resize((wholeBlocks+1)*blockSize);
+    offset.resize((wholeBlocks+1)*blockSize);
     static const BlockPass passes[3] = {selectBlockPass<OrnsteinUhlenbeck>(), selectBlockPass<BBK>(), selectBlockPass<DissipativeAndRandomForce>()};
     BlockPass run = passes[kind];
-    run(wholeBlocks, sweep, particles, i, j, dx, dy, dz, ex.data(), ey.data(), ez.data(), slope.data(), offset.data());
+    run(wholeBlocks, sweep, particles, i, j, r, slope.data(), offset.data());
     if (tail == 0)
         return;
     // The last pairs go through the same block code, padded with a harmless pair (particle 0 with itself at distance 1).
     int tailI[blockSize] = {}, tailJ[blockSize] = {};
-    double tailDx[blockSize], tailDy[blockSize] = {}, tailDz[blockSize] = {};
-    std::fill(tailDx, tailDx+blockSize, 1.0);
+    double tailR[blockSize];
+    std::fill(tailR, tailR+blockSize, 1.0);
     std::size_t first = wholeBlocks*blockSize;
     std::copy(i+first, i+count, tailI);
     std::copy(j+first, j+count, tailJ);
-    std::copy(dx+first, dx+count, tailDx);
-    std::copy(dy+first, dy+count, tailDy);
-    std::copy(dz+first, dz+count, tailDz);
-    run(1, sweep, particles, tailI, tailJ, tailDx, tailDy, tailDz, ex.data()+first, ey.data()+first, ez.data()+first,
-        slope.data()+first, offset.data()+first);
+    std::copy(r+first, r+count, tailR);
+    run(1, sweep, particles, tailI, tailJ, tailR, slope.data()+first, offset.data()+first);
 }
