@@ -43,10 +43,10 @@ private:
         std::vector<double> ex, ey, ez, r;
         void reserveMore(std::size_t count);
     };
-    /** The particles of a cell's half stencil at their shifted positions, and the hits of the distance filter. */
+    /** A thread's scratch for one cell: its half stencil's particles at their shifted positions, the distance filter's hits, force magnitudes. */
     struct CandidateSet {
         std::vector<int> index, closeIndex;
-        std::vector<double> x, y, z;
+        std::vector<double> x, y, z, forceMagnitude;
         void resize(int count) {
             if (static_cast<int>(index.size()) >= count)
                 return;
@@ -78,7 +78,6 @@ private:
     std::vector<CandidateSet> candidateSets;          // one per thread
     std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its thread's buffer
     std::vector<CpuDPDPairUpdateBlock> blocks;        // one per thread
-    std::vector<double> forceMagnitudes;              // scratch of the conservative force pass
     std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order
     std::vector<OpenMM::Vec3> sortedForces, sortedVelocities, sortedResponse;
     std::vector<int> sortedRepulsionType, sortedFrictionType;

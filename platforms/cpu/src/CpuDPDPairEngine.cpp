@@ -65,8 +65,8 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
     int firstOfCell = cellStart[cell], numInCell = cellStart[cell+1]-firstOfCell;
     std::size_t firstPairOfCell = buffer.size;
     buffer.reserveMore(static_cast<std::size_t>(numInCell)*numCandidates);
-    if (forceMagnitudes.size() < static_cast<std::size_t>(numInCell)*numCandidates)
-        forceMagnitudes.resize(2*static_cast<std::size_t>(numInCell)*numCandidates);
+    if (candidates.forceMagnitude.size() < static_cast<std::size_t>(numInCell)*numCandidates)
+        candidates.forceMagnitude.resize(2*static_cast<std::size_t>(numInCell)*numCandidates);
     double radius2 = radius*radius;
     for (int local = 0; local < numInCell; local++) {
         int a = firstOfCell+local;
@@ -102,7 +102,7 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
         return;
     // Conservative pair force a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3):
     // magnitudes in a vector pass, then the scatter.
-    double* __restrict magnitude = forceMagnitudes.data();
+    double* __restrict magnitude = candidates.forceMagnitude.data();
     const int* __restrict pi = buffer.i.data();
     const int* __restrict pj = buffer.j.data();
     const int* __restrict type = sortedRepulsionType.data();
