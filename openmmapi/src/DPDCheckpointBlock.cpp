@@ -1,5 +1,6 @@
 #include "openmmdpd/internal/DPDCheckpointBlock.h"
 #include "openmm/OpenMMException.h"
+#include "openmm/reference/SimTKOpenMMUtilities.h"
 #include <cstring>
 #include <istream>
 #include <ostream>
@@ -44,6 +45,12 @@ std::uint64_t DPDCheckpointBlock::digestOfContextState(OpenMM::ContextImpl& cont
     hash = fnv1a(box, sizeof(box), hash);
     hash = fnv1a(&time, sizeof(time), hash);
     hash = fnv1a(&stepCount, sizeof(stepCount), hash);
+    // The Reference and CPU platforms also restore OpenMM's global random state (SimTK's); its bytes
+    // are part of the checkpoint, so a damaged byte there must be caught too.
+    std::stringstream randomState;
+    OpenMM::SimTKOpenMMUtilities::createCheckpoint(randomState);
+    const std::string randomBytes = randomState.str();
+    hash = fnv1a(randomBytes.data(), randomBytes.size(), hash);
     for (const auto& parameter : context.getParameters()) {
         hash = fnv1a(parameter.first.data(), parameter.first.size(), hash);
         hash = fnv1a(&parameter.second, sizeof(parameter.second), hash);

@@ -14,7 +14,7 @@ namespace OpenMMDPD {
  *     magic "DPD-CKPT" (8 bytes) | format version (uint32) | payload length (uint64) | payload | checksum (uint64)
  *
  * OpenMM writes the Context's own state (platform, parameters, time, step count, positions, velocities,
- * box) before the integrator's block and checks almost none of it.  The checksum (64-bit FNV-1a) covers
+ * box, its global random state) before the integrator's block and checks almost none of it.  The checksum (64-bit FNV-1a) covers
  * the payload AND a digest of that restored state, so a checkpoint of another integrator (no magic), a
  * truncated one (short payload or no checksum) and one with a flipped byte anywhere in the state or the
  * block are all refused with a message, before the integrator's state is touched.
