@@ -121,9 +121,10 @@ void DPDSplittingDynamics::checkExternalState(OpenMM::ContextImpl& context) cons
     ContextArrays state = arrays(context);
     for (std::size_t i = 0; i < state.positions.size(); i++) {
         const char* what = nullptr;
-        if (!std::isfinite(state.positions[i][0]) || !std::isfinite(state.positions[i][1]) || !std::isfinite(state.positions[i][2]))
+        auto finite = [](const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); };
+        if (!finite(state.positions[i]))
             what = "position";
-        else if (!std::isfinite(state.velocities[i][0]) || !std::isfinite(state.velocities[i][1]) || !std::isfinite(state.velocities[i][2]))
+        else if (!finite(state.velocities[i]))
             what = "velocity";
         if (what == nullptr)
             continue;
@@ -290,7 +291,7 @@ void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const ch
 void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator) {
     ContextArrays state = arrays(context);
     bool nemd = integrator.getForcingMode() == DPDIntegrator::NEMD;
-    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0)                     // A(dt/2), eq. 2.19
+    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.19
         throwNonFinite(context, "positions", particle);
     const DPDPairList& pairs = evaluateForcesAndPairs(context);                 // the one force evaluation, at q^{n+1/2}
     double eta = integrator.getForcingStrength();
@@ -305,7 +306,7 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
         throwNonFinite(context, "velocities");
     if (nemd)
         applyForcingImpulse(0.5*dt*eta, state.velocities);
-    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0)                      // A(dt/2), eq. 2.24
+    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.24
         throwNonFinite(context, "positions", particle);
     if (nemd) {
         evaluateForcingFields(integrator, state.positions, state.box);          // G(q^{n+1})
@@ -333,7 +334,7 @@ void DPDSplittingDynamics::stepABOBANorton(OpenMM::ContextImpl& context, double 
         return xi;
     };
     double l = 0.0;
-    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0)                                // eq. 52
+    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // eq. 52
         throwNonFinite(context, "positions", particle);
     double fDotG = requireControllable(evaluateForcingFields(integrator, state.positions, state.box));
     l += project(fDotG);                                                                   // eqs. 53-54
@@ -348,7 +349,7 @@ void DPDSplittingDynamics::stepABOBANorton(OpenMM::ContextImpl& context, double 
     if (!kick(state.velocities, state.forces, 0.5*dt))                                     // eq. 64
         throwNonFinite(context, "velocities");
     l += project(fDotG);                                                                   // eqs. 65-66
-    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0)                                 // eq. 67
+    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // eq. 67
         throwNonFinite(context, "positions", particle);
     fDotG = requireControllable(evaluateForcingFields(integrator, state.positions, state.box));
     l += project(fDotG);                                                                   // eqs. 68-69
@@ -369,7 +370,7 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
     if (!friction.allValuesZero)
         applyPairwiseBBK(*pairsAtCurrentPositions, state.velocities, dt);       // O(dt), eq. 2.12
     kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // B(dt/2), eq. 2.13a
-    if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0)                          // A(dt), eq. 2.13b
+    if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0) // A(dt), eq. 2.13b
         throwNonFinite(context, "positions", particle);
     evaluateForcesAndPairs(context);                                            // at q^{n+1}, reused next step
     forceAtCurrentPositions = state.forces;
@@ -386,7 +387,7 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
             addDissipativeAndRandomForces(pairs, state.velocities, dt, forceAtCurrentPositions);
     }
     kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // eq. 2.3a, with the stored forces
-    if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0)                          // eq. 2.3b
+    if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0) // eq. 2.3b
         throwNonFinite(context, "positions", particle);
     const DPDPairList& pairs = evaluateForcesAndPairs(context);
     forceAtCurrentPositions = state.forces;
