@@ -49,7 +49,7 @@ public:
     /**
      * @param temperature      the temperature T (K) of the heat bath; > 0
      * @param defaultFriction  the friction gamma (amu/ps) of type pairs without override; >= 0
-     * @param defaultCutoff    the dissipative cutoff r_c (nm) of those type pairs; > 0
+     * @param defaultCutoff    the dissipative cutoff r_c (nm) of those type pairs; at least 1e-3 nm
      * @param stepSize         the step size (ps); > 0
      * @param scheme           the splitting scheme
      */
