@@ -18,6 +18,7 @@ void DPDColourDrift::evaluate(const std::vector<Vec3>& positions, const Vec3* bo
     response.assign(n, Vec3());
     double magnitude = 1.0/std::sqrt(static_cast<double>(n));
     for (std::size_t i = 0; i < n; i++) {
+        requirePositiveMass(masses, i);
         force[i] = Vec3((i % 2 == 0 ? -magnitude : magnitude), 0, 0); // (-1)^i for i = 1..N
         response[i] = force[i]/masses[i];
     }

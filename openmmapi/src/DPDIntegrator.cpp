@@ -1,5 +1,6 @@
 #include "openmmdpd/DPDIntegrator.h"
 #include "openmmdpd/IntegrateDPDStepKernel.h"
+#include "openmmdpd/internal/DPDCheckpointBlock.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
 #include <cmath>
@@ -114,6 +115,12 @@ void DPDIntegrator::initialize(OpenMM::ContextImpl& contextRef) {
         throw OpenMMException("DPDIntegrator: this integrator is already bound to a Context");
     if (contextRef.getSystem().getNumConstraints() > 0)
         throw OpenMMException("DPDIntegrator: the System has constraints, which the DPD schemes do not support");
+    if (!contextRef.getSystem().usesPeriodicBoundaryConditions())
+        throw OpenMMException("DPDIntegrator: the System is not periodic (no force in it uses periodic boundary conditions), but "
+                              "the DPD thermostat measures pair distances by the minimum image of the periodic box.  Add a "
+                              "DPDForce (a = 0 for a thermostat alone), or make the System's forces periodic (e.g. "
+                              "CustomNonbondedForce::CutoffPeriodic) and set a box at least twice the largest cutoff; "
+                              "non-periodic systems (droplets, molecules in vacuum) are not supported");
     context = &contextRef;
     owner = &contextRef.getOwner();
     kernel = context->getPlatform().createKernel(IntegrateDPDStepKernel::Name(), contextRef);
@@ -148,10 +155,22 @@ void DPDIntegrator::step(int steps) {
     }
 }
 
+void DPDIntegrator::setRandomNumberSeed(int seed) {
+    randomNumberSeed = seed;
+    if (context != nullptr) // bound: the new seed takes effect at the next step, not at some later reinitialize
+        kernel.getAs<IntegrateDPDStepKernel>().setRandomNumberSeed(seed);
+}
+
 void DPDIntegrator::createCheckpoint(std::ostream& stream) const {
-    kernel.getAs<const IntegrateDPDStepKernel>().createCheckpoint(stream);
+    std::ostringstream payload;
+    kernel.getAs<const IntegrateDPDStepKernel>().createCheckpoint(payload);
+    DPDCheckpointBlock::write(stream, payload.str(), DPDCheckpointBlock::digestOfContextState(*context));
 }
 
 void DPDIntegrator::loadCheckpoint(std::istream& stream) {
-    kernel.getAs<IntegrateDPDStepKernel>().loadCheckpoint(stream);
+    // Generous bound on the kernel's layout (random state, counters, transport sums, VV's stored forces
+    // and their box): it only guards against allocating what a damaged length field claims.
+    std::uint64_t maximumLength = 4096+sizeof(OpenMM::Vec3)*(context->getSystem().getNumParticles()+3);
+    std::istringstream payload(DPDCheckpointBlock::read(stream, DPDCheckpointBlock::digestOfContextState(*context), maximumLength));
+    kernel.getAs<IntegrateDPDStepKernel>().loadCheckpoint(payload);
 }

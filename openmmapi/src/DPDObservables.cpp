@@ -57,6 +57,15 @@ DPDObservables::ConfigurationalSums DPDObservables::configurationalSums(OpenMM::
 
 double DPDObservables::configurationalTemperature(OpenMM::Context& context) {
     ConfigurationalSums sums = configurationalSums(context);
+    if (!(sums.laplacian > 0.0)) {
+        // No pair in range (or a net-concave configuration of a custom potential): the ratio of eq. 3.1
+        // has no meaning for this one configuration; averaging the sums over a run is what eq. 3.1 asks.
+        std::stringstream message;
+        message << "DPDObservables: configurationalTemperature is undefined for this configuration: the sum of the Laplacians "
+                << "is " << sums.laplacian << " (it must be > 0; it is 0 when no pair is within the cutoff).  Average "
+                << "configurationalSums over a run and divide the means instead";
+        throw OpenMM::OpenMMException(message.str());
+    }
     return sums.gradientSquared/sums.laplacian/BOLTZ;
 }
 
@@ -66,6 +75,12 @@ double DPDObservables::kineticTemperature(OpenMM::Context& context) {
     for (int i = 0; i < system.getNumParticles(); i++)
         if (system.getParticleMass(i) != 0.0)
             movingParticles++;
+    if (movingParticles < 2) {
+        std::stringstream message;
+        message << "DPDObservables: kineticTemperature needs at least 2 particles with mass > 0 (the System has " << movingParticles
+                << "): the conserved total momentum takes 3 of the 3N degrees of freedom";
+        throw OpenMM::OpenMMException(message.str());
+    }
     double kineticEnergy = context.getState(OpenMM::State::Energy).getKineticEnergy();
     return 2.0*kineticEnergy/(BOLTZ*(3*movingParticles-3));
 }
@@ -83,10 +98,10 @@ double DPDObservables::virialPressure(OpenMM::Context& context) {
 }
 
 std::vector<double> DPDObservables::pairDistanceHistogram(OpenMM::Context& context, double maxDistance, int numBins) {
-    if (!(maxDistance > 0) || numBins < 1) {
+    if (!(maxDistance > 0) || !std::isfinite(maxDistance) || numBins < 1 || numBins > maximumHistogramBins) {
         std::stringstream message;
-        message << "DPDObservables: pairDistanceHistogram needs maxDistance > 0 (got " << maxDistance << ") and numBins >= 1 (got "
-                << numBins << ")";
+        message << "DPDObservables: pairDistanceHistogram needs a finite maxDistance > 0 (got " << maxDistance
+                << ") and numBins in [1, " << maximumHistogramBins << "] (got " << numBins << ")";
         throw OpenMM::OpenMMException(message.str());
     }
     OpenMM::State state = context.getState(OpenMM::State::Positions);

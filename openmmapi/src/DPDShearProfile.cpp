@@ -61,6 +61,7 @@ void DPDShearProfile::evaluate(const std::vector<Vec3>& positions, const Vec3* b
     for (std::size_t i = 0; i < n; i++) {
         double y = DPDPeriodicBox::wrapIntoBox(positions[i], box)[1];
         double phase = 2*Pi*y/L;
+        requirePositiveMass(masses, i);
         force[i] = Vec3(profile(y, L), 0, 0);
         response[i] = Vec3((shape == PiecewiseLinear ? std::cos(phase) : std::sin(phase))/(masses[i]*n), 0, 0);
     }

@@ -24,9 +24,10 @@ void DPDTypePairTable::checkValue(double value) const {
 }
 
 void DPDTypePairTable::checkCutoff(double cutoff) const {
-    if (!std::isfinite(cutoff) || cutoff <= 0) {
+    if (!std::isfinite(cutoff) || cutoff < minimumCutoff) {
         std::stringstream message;
-        message << ownerName << ": cutoff = " << cutoff << " nm is out of range; it must be > 0";
+        message << ownerName << ": cutoff = " << cutoff << " nm is out of range; it must be > 0 (at least " << minimumCutoff
+                << " nm) and finite";
         throw OpenMMException(message.str());
     }
 }
@@ -62,11 +63,13 @@ void DPDTypePairTable::checkUnique(int type1, int type2, int ignoredIndex) const
 void DPDTypePairTable::setDefaultValue(double value) {
     checkValue(value);
     defaultValue = value;
+    revision++;
 }
 
 void DPDTypePairTable::setDefaultCutoff(double cutoff) {
     checkCutoff(cutoff);
     defaultCutoff = cutoff;
+    revision++;
 }
 
 int DPDTypePairTable::getParticleType(int index) const {
@@ -82,6 +85,7 @@ void DPDTypePairTable::setParticleType(int index, int type) {
     }
     checkType(type, "particle type");
     particleTypes[index] = type;
+    revision++;
 }
 
 int DPDTypePairTable::addTypePair(int type1, int type2, double value, double cutoff) {
@@ -91,6 +95,7 @@ int DPDTypePairTable::addTypePair(int type1, int type2, double value, double cut
     checkCutoff(cutoff);
     checkUnique(type1, type2, -1);
     typePairs.push_back({type1, type2, value, cutoff});
+    revision++;
     return getNumTypePairs()-1;
 }
 
@@ -115,6 +120,7 @@ void DPDTypePairTable::setTypePair(int pairIndex, int type1, int type2, double v
     checkCutoff(cutoff);
     checkUnique(type1, type2, pairIndex);
     typePairs[pairIndex] = {type1, type2, value, cutoff};
+    revision++;
 }
 
 DPDTypePairTable::Compiled DPDTypePairTable::compile(int numParticles) const {

@@ -25,7 +25,7 @@ class DPDForce : public OpenMM::Force {
 public:
     /**
      * @param defaultA       the repulsion strength a (kJ/mol/nm) between particles of type pairs without override; any real value
-     * @param defaultCutoff  the cutoff r_c (nm) of those type pairs; > 0
+     * @param defaultCutoff  the cutoff r_c (nm) of those type pairs; at least 1e-3 nm (DPDTypePairTable::minimumCutoff)
      */
     explicit DPDForce(double defaultA = 25.0, double defaultCutoff = 1.0);
 

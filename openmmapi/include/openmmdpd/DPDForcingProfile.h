@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_DPDFORCINGPROFILE_H_
 #define OPENMMDPD_DPDFORCINGPROFILE_H_
 
+#include "openmm/OpenMMException.h"
 #include "openmm/Vec3.h"
 #include <complex>
 #include <memory>
@@ -28,6 +29,18 @@ public:
      */
     virtual void evaluate(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, const std::vector<double>& masses,
                           std::vector<OpenMM::Vec3>& force, std::vector<OpenMM::Vec3>& response) const = 0;
+
+protected:
+    /**
+     * The responses divide by the mass (R = F . M^-1 p): a forced particle of zero mass would turn
+     * every response and forcing into NaN, so it is refused, naming the particle.
+     */
+    void requirePositiveMass(const std::vector<double>& masses, std::size_t particle) const {
+        if (!(masses[particle] > 0.0))
+            throw OpenMM::OpenMMException("DPDIntegrator: the "+getType()+" forcing profile acts on particle "+
+                                          std::to_string(particle)+", whose mass is "+std::to_string(masses[particle])+
+                                          "; the response F . M^-1 p needs every forced particle to have a mass > 0");
+    }
 };
 
 } // namespace OpenMMDPD

@@ -32,7 +32,8 @@ namespace OpenMMDPD {
  * each step; setNorton holds R at r with Lagrange multipliers in A, B and O (eqs. 52-69) and
  * accumulates the forcing lambda = l / dt of each step (eq. 70), martingale part excluded (eq. 63).
  *
- * Particles of zero mass do not move and take no part in the pair sweeps.  Constraints are not supported.
+ * Particles of zero mass do not move; virtual sites follow their parent particles after every drift and
+ * take no part in the thermostat.  Constraints and non-periodic Systems are refused.
  */
 class DPDIntegrator : public OpenMM::Integrator {
 public:
@@ -48,7 +49,7 @@ public:
     /**
      * @param temperature      the temperature T (K) of the heat bath; > 0
      * @param defaultFriction  the friction gamma (amu/ps) of type pairs without override; >= 0
-     * @param defaultCutoff    the dissipative cutoff r_c (nm) of those type pairs; > 0
+     * @param defaultCutoff    the dissipative cutoff r_c (nm) of those type pairs; at least 1e-3 nm
      * @param stepSize         the step size (ps); > 0
      * @param scheme           the splitting scheme
      */
@@ -66,6 +67,8 @@ public:
     double getTemperature() const { return temperature; }
     void setTemperature(double temperature);
 
+    // Changes to the friction table (setDefaultFriction ... setTypePairParameters) on a bound integrator
+    // take effect at the next step, where they are checked against the System and the box.
     double getDefaultFriction() const { return table.getDefaultValue(); }
     void setDefaultFriction(double friction) { table.setDefaultValue(friction); }
     double getDefaultCutoff() const { return table.getDefaultCutoff(); }
@@ -88,10 +91,11 @@ public:
 
     /**
      * The seed of the pairwise random numbers.  0 (the default) picks a new seed each time a Context
-     * is created; any other value makes runs reproducible.
+     * is created; any other value makes runs reproducible.  Set on a bound integrator, the new seed
+     * restarts the random numbers at the next step.
      */
     int getRandomNumberSeed() const { return randomNumberSeed; }
-    void setRandomNumberSeed(int seed) { randomNumberSeed = seed; }
+    void setRandomNumberSeed(int seed);
 
     void setStepSize(double size) override;
 

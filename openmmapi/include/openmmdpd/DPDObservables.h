@@ -25,9 +25,12 @@ public:
      * over a run.
      */
     static ConfigurationalSums configurationalSums(OpenMM::Context& context);
-    /** k_B T_conf / k_B (K) of one configuration. */
+    /** k_B T_conf / k_B (K) of one configuration; throws when the Laplacian sum is not positive (no pair in range). */
     static double configurationalTemperature(OpenMM::Context& context);
-    /** 2 KE / (k_B (3N - 3)) (K): momentum is conserved, so 3 degrees of freedom are not thermalized. */
+    /**
+     * 2 KE / (k_B (3N - 3)) (K) over the N particles with mass > 0: momentum is conserved, so 3 degrees
+     * of freedom are not thermalized.  Throws for N < 2.
+     */
     static double kineticTemperature(OpenMM::Context& context);
     /**
      * The pressure (kJ/mol/nm^3) from the virial: (2 KE/3 - 1/3 sum_pairs r u'(r)) / V.  In DPD's
@@ -40,6 +43,8 @@ public:
      * count N (N-1)/2 * 4 pi r^2 dr / V.
      */
     static std::vector<double> pairDistanceHistogram(OpenMM::Context& context, double maxDistance, int numBins);
+    /** The most bins pairDistanceHistogram accepts (8 MB of counts): far finer than any pair statistics resolve. */
+    static constexpr int maximumHistogramBins = 1000000;
 };
 
 } // namespace OpenMMDPD

@@ -57,6 +57,15 @@ public:
      */
     Compiled compile(int numParticles) const;
 
+    /**
+     * Counts the changes made through the setters, so that a Context bound to the owner can tell
+     * that its compiled copy is stale and apply the change at its next step.
+     */
+    unsigned long long getRevision() const { return revision; }
+
+    /** The smallest cutoff accepted (nm): below it no physical pair force is resolved, and a cell search would need absurd numbers of cells. */
+    static constexpr double minimumCutoff = 1e-3;
+
 private:
     void checkValue(double value) const;
     void checkCutoff(double cutoff) const;
@@ -68,6 +77,7 @@ private:
     double defaultValue, defaultCutoff;
     std::map<int, int> particleTypes;
     std::vector<TypePair> typePairs;
+    unsigned long long revision = 0;
 };
 
 } // namespace OpenMMDPD

@@ -28,6 +28,8 @@ public:
     virtual void loadCheckpoint(std::istream& stream) = 0;
     virtual DPDIntegrator::TransportStatistics getTransportStatistics() const = 0;
     virtual void resetTransportStatistics() = 0;
+    /** Restart the pairwise random numbers from `seed` (0: a new seed) from the next step on. */
+    virtual void setRandomNumberSeed(int seed) = 0;
 };
 
 } // namespace OpenMMDPD

@@ -43,6 +43,8 @@ public:
 
     DPDIntegrator::TransportStatistics getTransportStatistics() const { return transport; }
     void resetTransportStatistics() { transport = DPDIntegrator::TransportStatistics(); }
+    /** Restart the pairwise random numbers from `seed` (0: a new seed) at the next step. */
+    void setRandomNumberSeed(int seed);
 
 
 private:
@@ -55,8 +57,16 @@ private:
     void stepS1(OpenMM::ContextImpl& context, double dt);
     void stepVV(OpenMM::ContextImpl& context, double dt);
 
-    /** q += dt v; false if a position became non-finite or a particle moved more than half the box. */
-    bool drift(std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities, double dt) const;
+    /**
+     * q += dt v; returns the index of the first particle whose position became non-finite or that moved
+     * more than half the box, or -1 if every particle is sound.  Virtual sites follow their parents.
+     */
+    int drift(OpenMM::ContextImpl& context, std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities,
+              double dt) const;
+    /** Apply changes made to the integrator's friction table since the last step (validated here). */
+    void applyFrictionTableChanges(OpenMM::ContextImpl& context, const DPDIntegrator& integrator);
+    /** Throw, naming the particle, if a position or velocity set from outside is not finite. */
+    void checkExternalState(OpenMM::ContextImpl& context) const;
     bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, double dt) const;
     /** Evaluate the Context's forces at its current positions and return the engine holding the pairs at those positions. */
     DPDPairEngine& evaluateForcesAndPairs(OpenMM::ContextImpl& context);
@@ -68,7 +78,7 @@ private:
     double responseOf(const std::vector<OpenMM::Vec3>& velocities) const;
     /** p += xi F (the forcing of eqs. 6 and 11 over one sub-step). */
     void applyForcingImpulse(double xi, std::vector<OpenMM::Vec3>& velocities) const;
-    void throwNonFinite(OpenMM::ContextImpl& context, const char* what) const;
+    void throwNonFinite(OpenMM::ContextImpl& context, const char* what, int particle = -1) const;
 
     DPDPairEngineFactory makeEngine;
     DPDIntegrator::Scheme scheme;
@@ -76,6 +86,9 @@ private:
     double kT;
     double maxDisplacementPerDrift = 0.0; // half the box height
     DPDTypePairTable::Compiled friction;
+    unsigned long long frictionRevision; // the revision of the integrator's table that `friction` was compiled from
+    std::vector<int> virtualSites;       // their positions are recomputed after every drift
+    bool externalStateUnchecked = true;  // positions or velocities were set from outside since the last check
     std::vector<double> masses, inverseMasses;
     int integrationGroups;
     DPDPairRandom random;

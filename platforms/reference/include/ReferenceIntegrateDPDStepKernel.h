@@ -25,6 +25,7 @@ public:
     void loadCheckpoint(std::istream& stream) override { dynamics->loadCheckpoint(stream); }
     DPDIntegrator::TransportStatistics getTransportStatistics() const override { return dynamics->getTransportStatistics(); }
     void resetTransportStatistics() override { dynamics->resetTransportStatistics(); }
+    void setRandomNumberSeed(int seed) override { dynamics->setRandomNumberSeed(seed); }
 
 private:
     DPDPairEngineFactory makeEngine;

@@ -23,6 +23,38 @@ struct DPDSplittingDynamics::ContextArrays {
     OpenMM::ReferencePlatform::PlatformData& data;
 };
 
+namespace {
+
+/**
+ * The integrator's friction table in dense form, with virtual sites moved to a type of their own with
+ * zero friction: a site's velocity is not integrated (its position follows its parents), so it takes
+ * no part in the thermostat; the conservative force on it reaches its parents through OpenMM.
+ */
+DPDTypePairTable::Compiled compileFriction(const OpenMM::System& system, const DPDTypePairTable& table) {
+    DPDTypePairTable::Compiled compiled = table.compile(system.getNumParticles());
+    bool anyVirtualSite = false;
+    for (int i = 0; i < system.getNumParticles() && !anyVirtualSite; i++)
+        anyVirtualSite = system.isVirtualSite(i);
+    if (!anyVirtualSite)
+        return compiled;
+    int n = compiled.numTypes, siteType = n;
+    std::vector<double> value((n+1)*(n+1), 0.0), cutoff((n+1)*(n+1), compiled.maxCutoff);
+    for (int a = 0; a < n; a++)
+        for (int b = 0; b < n; b++) {
+            value[a*(n+1)+b] = compiled.valueOf(a, b);
+            cutoff[a*(n+1)+b] = compiled.cutoffOf(a, b);
+        }
+    compiled.numTypes = n+1;
+    compiled.value = std::move(value);
+    compiled.cutoff = std::move(cutoff);
+    for (int i = 0; i < system.getNumParticles(); i++)
+        if (system.isVirtualSite(i))
+            compiled.particleTypeIndex[i] = siteType;
+    return compiled;
+}
+
+} // namespace
+
 DPDSplittingDynamics::ContextArrays DPDSplittingDynamics::arrays(OpenMM::ContextImpl& context) const {
     auto* data = reinterpret_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
     return {*data->positions, *data->velocities, *data->forces, data->periodicBoxVectors, *data};
@@ -33,7 +65,11 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
     : makeEngine(std::move(makeEngine)), scheme(integrator.getScheme()), stepSize(integrator.getStepSize()),
       kT(BOLTZ*integrator.getTemperature()), integrationGroups(integrator.getIntegrationForceGroups()) {
     const OpenMM::System& system = context.getSystem();
-    friction = integrator.getTable().compile(system.getNumParticles());
+    friction = compileFriction(system, integrator.getTable());
+    frictionRevision = integrator.getTable().getRevision();
+    for (int i = 0; i < system.getNumParticles(); i++)
+        if (system.isVirtualSite(i))
+            virtualSites.push_back(i);
     masses.resize(system.getNumParticles());
     inverseMasses.resize(system.getNumParticles());
     for (int i = 0; i < system.getNumParticles(); i++) {
@@ -60,19 +96,62 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
     }
 }
 
-bool DPDSplittingDynamics::drift(std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, double dt) const {
+int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+                                double dt) const {
     // A finite but runaway state is caught too: no particle of a sound simulation moves half the
     // box in one step, and past that the minimum image and the pair lists lose their meaning.
     double limit2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
-    bool sound = true;
+    int unsound = -1;
     for (std::size_t i = 0; i < positions.size(); i++) {
         if (inverseMasses[i] == 0.0)
             continue;
         Vec3 displacement = velocities[i]*dt;
         positions[i] += displacement;
-        sound &= displacement.dot(displacement) <= limit2; // false for NaN and infinity as well
+        // Both tests are false for NaN; the second also catches a finite step to an infinite position.
+        bool sound = displacement.dot(displacement) <= limit2 && std::isfinite(positions[i].dot(positions[i]));
+        if (!sound && unsound < 0)
+            unsound = static_cast<int>(i);
     }
-    return sound;
+    if (!virtualSites.empty())
+        context.computeVirtualSites(); // as OpenMM's integrators do after every position update
+    return unsound;
+}
+
+void DPDSplittingDynamics::checkExternalState(OpenMM::ContextImpl& context) const {
+    ContextArrays state = arrays(context);
+    for (std::size_t i = 0; i < state.positions.size(); i++) {
+        const char* what = nullptr;
+        auto finite = [](const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); };
+        if (!finite(state.positions[i]))
+            what = "position";
+        else if (!finite(state.velocities[i]))
+            what = "velocity";
+        if (what == nullptr)
+            continue;
+        const Vec3& bad = what[0] == 'p' ? state.positions[i] : state.velocities[i];
+        std::stringstream message;
+        message << "DPDIntegrator: particle " << i << " has a non-finite " << what << " (" << bad[0] << ", " << bad[1] << ", "
+                << bad[2] << ") before step " << context.getStepCount()+1 << "; every position and velocity set in the Context "
+                << "must be finite";
+        throw OpenMM::OpenMMException(message.str());
+    }
+}
+
+void DPDSplittingDynamics::applyFrictionTableChanges(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) {
+    // setDefaultFriction, setDefaultCutoff, setParticleType, addTypePair ... on a bound integrator take
+    // effect here, at the next step, as LangevinMiddleIntegrator.setFriction does; compile() and the
+    // box check validate them now, so a value is never accepted and then silently left unused.
+    DPDTypePairTable::Compiled updated = compileFriction(context.getSystem(), integrator.getTable());
+    DPDPeriodicBox::checkCutoff("DPDIntegrator", updated.maxCutoff, arrays(context).box);
+    friction = std::move(updated);
+    frictionRevision = integrator.getTable().getRevision();
+    forceAtCurrentPositionsValid = false; // VV's stored dissipative force used the old friction
+    pairsAtCurrentPositions = nullptr;    // S1's stored pairs may not reach a larger cutoff
+}
+
+void DPDSplittingDynamics::setRandomNumberSeed(int seed) {
+    random = DPDPairRandom(seed != 0 ? static_cast<std::uint64_t>(seed) : std::random_device()());
+    forceAtCurrentPositionsValid = false; // VV's stored random force came from the old stream
 }
 
 bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt) const {
@@ -131,9 +210,12 @@ void DPDSplittingDynamics::applyForcingImpulse(double xi, std::vector<Vec3>& vel
         velocities[i] += forcingField[i]*(xi*inverseMasses[i]);
 }
 
-void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const char* what) const {
+void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const char* what, int particle) const {
     std::stringstream message;
-    message << "DPDIntegrator: non-finite or runaway " << what << " at step " << context.getStepCount()+1 << " (scheme "
+    message << "DPDIntegrator: non-finite or runaway " << what;
+    if (particle >= 0)
+        message << " (first at particle " << particle << ")";
+    message << " at step " << context.getStepCount()+1 << " (scheme "
             << DPDIntegrator::schemeName(scheme) << ", step size " << stepSize
             << " ps): the simulation is unstable; reduce the step size";
     throw OpenMM::OpenMMException(message.str());
@@ -142,9 +224,9 @@ void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const ch
 void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator) {
     ContextArrays state = arrays(context);
     bool nemd = integrator.getForcingMode() == DPDIntegrator::NEMD;
-    if (!drift(state.positions, state.velocities, 0.5*dt))                     // A(dt/2), eq. 2.19
-        throwNonFinite(context, "positions");
-    DPDPairEngine& pairs = evaluateForcesAndPairs(context);                     // the one force evaluation, at q^{n+1/2}
+    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.19
+        throwNonFinite(context, "positions", particle);
+    DPDPairEngine& pairs = evaluateForcesAndPairs(context);                 // the one force evaluation, at q^{n+1/2}
     double eta = integrator.getForcingStrength();
     if (nemd)
         evaluateForcingFields(integrator, state.positions, state.box);          // F(q^{n+1/2}) of eq. 6
@@ -157,8 +239,8 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
         throwNonFinite(context, "velocities");
     if (nemd)
         applyForcingImpulse(0.5*dt*eta, state.velocities);
-    if (!drift(state.positions, state.velocities, 0.5*dt))                      // A(dt/2), eq. 2.24
-        throwNonFinite(context, "positions");
+    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.24
+        throwNonFinite(context, "positions", particle);
     if (nemd) {
         evaluateForcingFields(integrator, state.positions, state.box);          // G(q^{n+1})
         transport.lastResponse = responseOf(state.velocities);                  // R at (q^{n+1}, p^{n+1}), for eq. 9
@@ -185,8 +267,8 @@ void DPDSplittingDynamics::stepABOBANorton(OpenMM::ContextImpl& context, double 
         return xi;
     };
     double l = 0.0;
-    if (!drift(state.positions, state.velocities, 0.5*dt))                                // eq. 52
-        throwNonFinite(context, "positions");
+    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // eq. 52
+        throwNonFinite(context, "positions", particle);
     double fDotG = requireControllable(evaluateForcingFields(integrator, state.positions, state.box));
     l += project(fDotG);                                                                   // eqs. 53-54
     DPDPairEngine& pairs = evaluateForcesAndPairs(context);
@@ -200,8 +282,8 @@ void DPDSplittingDynamics::stepABOBANorton(OpenMM::ContextImpl& context, double 
     if (!kick(state.velocities, state.forces, 0.5*dt))                                     // eq. 64
         throwNonFinite(context, "velocities");
     l += project(fDotG);                                                                   // eqs. 65-66
-    if (!drift(state.positions, state.velocities, 0.5*dt))                                 // eq. 67
-        throwNonFinite(context, "positions");
+    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // eq. 67
+        throwNonFinite(context, "positions", particle);
     fDotG = requireControllable(evaluateForcingFields(integrator, state.positions, state.box));
     l += project(fDotG);                                                                   // eqs. 68-69
     transport.lastForcing = l/dt;                                                          // eq. 70
@@ -221,8 +303,8 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
     if (!friction.allValuesZero)
         pairsAtCurrentPositions->applyPairwiseBBK(nextSweep(dt), state.velocities); // O(dt), eq. 2.12
     kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // B(dt/2), eq. 2.13a
-    if (!drift(state.positions, state.velocities, dt))                          // A(dt), eq. 2.13b
-        throwNonFinite(context, "positions");
+    if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0) // A(dt), eq. 2.13b
+        throwNonFinite(context, "positions", particle);
     evaluateForcesAndPairs(context);                                            // at q^{n+1}, reused next step
     forceAtCurrentPositions = state.forces;
     if (!kick(state.velocities, forceAtCurrentPositions, 0.5*dt))               // B(dt/2), eq. 2.13c
@@ -238,8 +320,8 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
             pairs.addDissipativeAndRandomForces(nextSweep(dt), state.velocities, forceAtCurrentPositions);
     }
     kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // eq. 2.3a, with the stored forces
-    if (!drift(state.positions, state.velocities, dt))                          // eq. 2.3b
-        throwNonFinite(context, "positions");
+    if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0) // eq. 2.3b
+        throwNonFinite(context, "positions", particle);
     DPDPairEngine& pairs = evaluateForcesAndPairs(context);
     forceAtCurrentPositions = state.forces;
     if (!friction.allValuesZero)
@@ -254,6 +336,14 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
         forceAtCurrentPositionsValid = false; // VV's stored random force carries 1/sqrt(dt)
     }
     kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
+    if (integrator.getTable().getRevision() != frictionRevision)
+        applyFrictionTableChanges(context, integrator);
+    if (externalStateUnchecked) {
+        // The drift catches what a step produces; what the user set is checked once, here, so that a
+        // NaN position cannot hide from the pair search (which drops NaN pairs) and run on silently.
+        checkExternalState(context);
+        externalStateUnchecked = false;
+    }
     ContextArrays state = arrays(context);
     maxDisplacementPerDrift = 0.5*std::min(state.box[0][0], std::min(state.box[1][1], state.box[2][2]));
     for (int k = 0; k < 3; k++)
@@ -289,6 +379,8 @@ double DPDSplittingDynamics::computeKineticEnergy(OpenMM::ContextImpl& context) 
 }
 
 void DPDSplittingDynamics::stateChanged(OpenMM::State::DataType changed) {
+    if (changed == OpenMM::State::Positions || changed == OpenMM::State::Velocities)
+        externalStateUnchecked = true;
     // Loading a checkpoint reports every kind of change right after restoring our stored forces,
     // which belong to the restored state: keep them until the next step.
     if (keepStoredForceThroughStateChanges)
@@ -315,19 +407,35 @@ void DPDSplittingDynamics::createCheckpoint(std::ostream& stream) const {
 }
 
 void DPDSplittingDynamics::loadCheckpoint(std::istream& stream) {
+    // DPDIntegrator has checked the block's framing and checksum; a short read here still means a
+    // block of another layout, so nothing is changed unless everything was read.
     std::uint64_t seed;
+    unsigned long long counter;
+    DPDIntegrator::TransportStatistics statistics;
+    unsigned char storedForce = 0; // a byte, not a bool: any byte value may arrive here
+    Vec3 storedBox[3];
+    std::vector<Vec3> storedForces;
     stream.read(reinterpret_cast<char*>(&seed), sizeof(seed));
-    random = DPDPairRandom(seed);
-    stream.read(reinterpret_cast<char*>(&sweepCounter), sizeof(sweepCounter));
-    stream.read(reinterpret_cast<char*>(&transport), sizeof(transport));
-    bool storedForce;
+    stream.read(reinterpret_cast<char*>(&counter), sizeof(counter));
+    stream.read(reinterpret_cast<char*>(&statistics), sizeof(statistics));
     stream.read(reinterpret_cast<char*>(&storedForce), sizeof(storedForce));
-    pairsAtCurrentPositions = nullptr;
-    forceAtCurrentPositionsValid = storedForce;
-    if (storedForce) {
-        stream.read(reinterpret_cast<char*>(boxOfStoredForce), sizeof(boxOfStoredForce));
-        forceAtCurrentPositions.resize(inverseMasses.size());
-        stream.read(reinterpret_cast<char*>(forceAtCurrentPositions.data()), sizeof(Vec3)*forceAtCurrentPositions.size());
+    if (stream && storedForce) {
+        stream.read(reinterpret_cast<char*>(storedBox), sizeof(storedBox));
+        storedForces.resize(inverseMasses.size());
+        stream.read(reinterpret_cast<char*>(storedForces.data()), sizeof(Vec3)*storedForces.size());
     }
+    if (!stream || storedForce > 1)
+        throw OpenMM::OpenMMException("DPDIntegrator: loadCheckpoint: the integrator's block of the checkpoint is shorter than "
+                                      "its layout needs; the checkpoint is damaged or was made for another System");
+    random = DPDPairRandom(seed);
+    sweepCounter = counter;
+    transport = statistics;
+    pairsAtCurrentPositions = nullptr;
+    forceAtCurrentPositionsValid = storedForce != 0;
+    if (storedForce) {
+        std::copy(storedBox, storedBox+3, boxOfStoredForce);
+        forceAtCurrentPositions = std::move(storedForces);
+    }
+    externalStateUnchecked = true;
     keepStoredForceThroughStateChanges = true;
 }

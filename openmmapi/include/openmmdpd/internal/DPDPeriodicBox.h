@@ -32,13 +32,36 @@ public:
         return position;
     }
 
-    /** Throw unless `cutoff` is at most half of every box height (what the minimum image needs). */
+    /** The most cutoff-sized cells a box may hold: beyond it a cell search needs absurd memory and time. */
+    static constexpr double maximumCellsPerBox = 1e8;
+
+    /**
+     * Throw unless the box is a proper one (finite, positive heights), `cutoff` is at most half of every
+     * box height (what the minimum image needs) and the box holds at most maximumCellsPerBox cells of
+     * the cutoff's size (what a cell search can afford).
+     */
     static void checkCutoff(const std::string& owner, double cutoff, const OpenMM::Vec3* box) {
+        for (int k = 0; k < 3; k++)
+            if (!std::isfinite(box[k][0]) || !std::isfinite(box[k][1]) || !std::isfinite(box[k][2]) || !(box[k][k] > 0)) {
+                std::stringstream message;
+                message << owner << ": periodic box vector " << k << " = (" << box[k][0] << ", " << box[k][1] << ", " << box[k][2]
+                        << ") nm is out of range; box vectors must be finite with positive diagonal";
+                throw OpenMM::OpenMMException(message.str());
+            }
         double halfHeight = 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2]));
         if (cutoff > halfHeight) {
             std::stringstream message;
             message << owner << ": cutoff = " << cutoff << " nm is out of range; it must be at most half the periodic box ("
                     << halfHeight << " nm)";
+            throw OpenMM::OpenMMException(message.str());
+        }
+        double cells = (box[0][0]/cutoff)*(box[1][1]/cutoff)*(box[2][2]/cutoff);
+        if (cells > maximumCellsPerBox) {
+            std::stringstream message;
+            message << owner << ": cutoff = " << cutoff << " nm is out of range for the periodic box (" << box[0][0] << " x "
+                    << box[1][1] << " x " << box[2][2] << " nm): the pair search would need " << cells
+                    << " cells of the cutoff's size, more than " << maximumCellsPerBox << "; the cutoff must be at least "
+                    << std::cbrt(box[0][0]*box[1][1]*box[2][2]/maximumCellsPerBox) << " nm for this box";
             throw OpenMM::OpenMMException(message.str());
         }
     }

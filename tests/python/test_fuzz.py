@@ -1,0 +1,189 @@
+"""Property-based fuzzing of the public Python API (issue 11): random valid and invalid parameters,
+particle counts, masses, boxes, types, forcing, checkpoints and XML.  Every case must end in a clean
+exception (openmm.OpenMMException, or TypeError/ValueError/OverflowError from the bindings' argument
+conversion) or in a finite state: never a crash, a hang or a NaN.
+
+Deterministic for CI: derandomize=True (examples derived from the test itself), no example database,
+a bounded example count, small systems and at most a few steps per example."""
+
+import math
+
+import numpy as np
+import openmm as mm
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import openmmdpd as dpd
+
+CLEAN_ERRORS = (mm.OpenMMException, TypeError, ValueError, OverflowError)
+FUZZ_EXAMPLES = 600
+
+# Numbers a hostile caller passes: boundaries and the unrepresentable.
+hostile_numbers = st.sampled_from([0.0, -0.0, -1.0, 1e-300, 1e-7, 1e-6, 1e300, math.inf, -math.inf, math.nan])
+
+
+def assert_finite(values, what):
+    array = np.asarray(values, dtype=float)
+    assert np.all(np.isfinite(array)), f"non-finite {what} without an exception"
+
+
+@st.composite
+def scenarios(draw):
+    """A valid scenario (zero masses, attraction, huge frictions and blow-up step sizes included), of
+    which about half get one parameter replaced by a hostile number, so that both the checks and the
+    dynamics behind them are exercised."""
+    n = draw(st.integers(1, 40))
+    box = draw(st.floats(2.1, 10.0))
+    scenario = dict(
+        n=n,
+        masses=draw(st.lists(st.one_of(st.floats(0.1, 10.0), st.just(0.0), st.just(1.0)), min_size=n, max_size=n)),
+        box=box,
+        a=draw(st.floats(-50.0, 100.0)),
+        force_cutoff=draw(st.floats(0.2, 1.0)),
+        temperature=draw(st.floats(1.0, 1000.0)),
+        friction=draw(st.one_of(st.floats(0.0, 500.0), st.just(0.0))),
+        cutoff=draw(st.floats(0.2, 1.0)),
+        step_size=draw(st.floats(1e-4, 0.2)),
+        scheme=draw(st.sampled_from(["VV", "S1", "ABOBA", "ABOBA"])),
+        types=draw(st.lists(st.tuples(st.integers(0, n - 1), st.integers(0, 3)), max_size=4)),
+        pairs=draw(st.lists(st.tuples(st.integers(0, 3), st.integers(0, 3), st.floats(0.0, 100.0), st.floats(0.2, 1.0)),
+                            max_size=3)),
+        forcing=draw(st.sampled_from([None, None, "NEMD", "Norton"])),
+        profile=draw(st.sampled_from(["colour", "two", "sinusoidal", "piecewise_linear", "piecewise_constant"])),
+        strength=draw(st.floats(-10.0, 10.0)),
+        platform=draw(st.sampled_from(["Reference", "CPU"])),
+        steps=draw(st.integers(1, 4)),
+        poison=None,
+        later_friction=draw(st.one_of(st.none(), st.floats(0.0, 100.0))),
+        later_cutoff=draw(st.one_of(st.none(), st.floats(0.2, 1.0))),
+        checkpoint=draw(st.sampled_from(["none", "sound", "sound", "truncated", "flipped", "foreign"])),
+        flip_at=draw(st.floats(0.0, 1.0)),
+        seed=draw(st.integers(0, 2**31 - 1)),
+    )
+    if draw(st.booleans()):
+        field = draw(st.sampled_from(["box", "a", "force_cutoff", "temperature", "friction", "cutoff", "step_size",
+                                      "strength", "poison", "later_friction", "later_cutoff", "scheme", "types", "pairs",
+                                      "n_masses"]))
+        if field == "scheme":
+            scenario["scheme"] = "BAOAB"
+        elif field == "types":
+            scenario["types"] = [(draw(st.integers(-2, n + 5)), draw(st.integers(-1, 3)))]
+        elif field == "pairs":
+            scenario["pairs"] = [(draw(st.integers(-1, 3)), 0, draw(hostile_numbers), draw(hostile_numbers))]
+        elif field == "n_masses":
+            scenario["masses"] = [draw(st.sampled_from([0.0, 1e-300, 1e300, math.inf, math.nan, -1.0]))] * n
+        else:
+            scenario[field] = draw(hostile_numbers)
+    return scenario
+
+
+def make_profile(name):
+    if name == "colour":
+        return dpd.ColourDrift()
+    if name == "two":
+        return dpd.TwoDrifts()
+    return dpd.ShearProfile(name)
+
+
+def run_scenario(s):
+    system = mm.System()
+    L = s["box"]
+    system.setDefaultPeriodicBoxVectors(mm.Vec3(L, 0, 0), mm.Vec3(0, L, 0), mm.Vec3(0, 0, L))
+    for m in s["masses"]:
+        system.addParticle(m)
+    force = dpd.DPDForce(s["a"], s["force_cutoff"])
+    system.addForce(force)
+    integrator = dpd.DPDIntegrator(s["temperature"], s["friction"], s["cutoff"], s["step_size"], s["scheme"])
+    integrator.setRandomNumberSeed(s["seed"])
+    for index, particle_type in s["types"]:
+        integrator.setParticleType(index, particle_type)
+    for type1, type2, friction, cutoff in s["pairs"]:
+        integrator.addTypePair(type1, type2, friction, cutoff)
+    if s["forcing"] == "NEMD":
+        integrator.setNEMD(make_profile(s["profile"]), s["strength"])
+    elif s["forcing"] == "Norton":
+        integrator.setNorton(make_profile(s["profile"]), s["strength"])
+
+    # XML round trip of both objects: what comes back is usable and equal in its parameters.
+    copy = dpd.DPDIntegrator.cast(mm.XmlSerializer.deserialize(mm.XmlSerializer.serialize(integrator)))
+    assert copy.getScheme() == integrator.getScheme()
+    assert copy.getDefaultFriction() == integrator.getDefaultFriction()
+    assert dpd.DPDForce.cast(mm.XmlSerializer.deserialize(mm.XmlSerializer.serialize(force))).getDefaultA() == force.getDefaultA()
+
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(s["platform"]))
+    rng = np.random.default_rng(s["seed"])
+    positions = rng.uniform(0.0, L, size=(s["n"], 3))
+    if s["poison"] is not None:
+        positions[rng.integers(s["n"]), rng.integers(3)] = s["poison"]
+    context.setPositions(positions)
+    context.setVelocitiesToTemperature(min(s["temperature"], 1e6), s["seed"] % 1000 + 1)
+    integrator.step(s["steps"])
+    if s["later_friction"] is not None:
+        integrator.setDefaultFriction(s["later_friction"])
+    if s["later_cutoff"] is not None:
+        integrator.setDefaultCutoff(s["later_cutoff"])
+
+    if s["checkpoint"] != "none":
+        checkpoint = context.createCheckpoint()
+        if s["checkpoint"] == "truncated":
+            checkpoint = checkpoint[:-8]
+        elif s["checkpoint"] == "flipped":
+            # A byte of the integrator's block, or of the positions OpenMM restores before it.  Not the
+            # bytes of OpenMM's own platform records: OpenMM's CPU platform reads sizes there unchecked,
+            # and a flipped size makes it allocate tens of GB before the plugin sees the stream.
+            if s["flip_at"] < 0.5:
+                block = checkpoint.rfind(b"DPD-CKPT")
+                where = block + int(2 * s["flip_at"] * (len(checkpoint) - block - 1))
+            else:
+                first_position = np.asarray(context.getState(getPositions=True).getPositions(asNumpy=True)._value[0], float)
+                found = checkpoint.find(first_position.tobytes())
+                assert found >= 0, "the positions are not where OpenMM's checkpoint layout puts them"
+                where = found + int(23 * (s["flip_at"] - 0.5) * 2)
+            checkpoint = checkpoint[:where] + bytes([checkpoint[where] ^ 0x04]) + checkpoint[where + 1:]
+        elif s["checkpoint"] == "foreign":
+            other = mm.Context(system, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName(s["platform"]))
+            other.setPositions(positions)
+            checkpoint = other.createCheckpoint()
+        context.loadCheckpoint(checkpoint)
+        if s["checkpoint"] in ("truncated", "flipped", "foreign"):
+            # Where the damage falls in OpenMM's part (the platform name, the particle count) OpenMM
+            # refuses it; everywhere else the integrator's block does.  Reaching here is a failure.
+            pytest.fail(f"a {s['checkpoint']} checkpoint was loaded without an exception")
+    integrator.step(s["steps"])
+
+    state = context.getState(getPositions=True, getVelocities=True, getEnergy=True)
+    assert_finite(state.getPositions(asNumpy=True)._value, "positions")
+    assert_finite(state.getVelocities(asNumpy=True)._value, "velocities")
+    assert_finite([state.getPotentialEnergy()._value, state.getKineticEnergy()._value], "energy")
+    for observable in (dpd.kinetic_temperature, dpd.configurational_temperature, dpd.virial_pressure):
+        try:
+            assert_finite([observable(context)], observable.__name__)
+        except mm.OpenMMException:
+            pass
+    statistics = integrator.getTransportStatistics()
+    assert_finite([statistics.response_sum, statistics.forcing_sum], "transport sums")
+
+
+@settings(max_examples=FUZZ_EXAMPLES, derandomize=True, database=None, deadline=None,
+          suppress_health_check=list(HealthCheck))
+@given(scenarios())
+def test_every_input_ends_in_a_clean_exception_or_a_finite_state(scenario):
+    try:
+        run_scenario(scenario)
+    except CLEAN_ERRORS:
+        pass
+
+
+@settings(max_examples=40, derandomize=True, database=None, deadline=None, suppress_health_check=list(HealthCheck))
+@given(bins=st.integers(-2**40, 2**40), max_distance=st.one_of(st.floats(-10, 10), hostile_numbers))
+def test_histogram_arguments_are_bounded(bins, max_distance):
+    system, positions = dpd.soft_fluid(num_particles=30, density=3.0, seed=2)
+    context = mm.Context(system, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName("Reference"))
+    context.setPositions(positions)
+    try:
+        histogram = dpd.pair_distance_histogram(context, max_distance, bins)
+    except CLEAN_ERRORS:
+        return
+    assert 1 <= len(histogram) <= 1_000_000
+    assert_finite(histogram, "histogram")
