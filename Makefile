@@ -79,7 +79,7 @@ transport: build
 	$(PYTHON) -m openmmdpd.transport examples/scenes/transport_lj_fluid.toml --budget $(BUDGET) --out transport-report
 
 bench: build
-	$(PYTHON) benchmarks/scaling.py --out benchmarks/scaling-results.md
+	$(PYTHON) benchmarks/bench.py --out benchmarks/bench-results.md
 
 clean:
 	rm -rf $(BUILD) $(BUILD).install.log $(SANITIZE_BUILD) $(SANITIZE_BUILD).configure.log

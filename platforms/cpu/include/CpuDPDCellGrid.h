@@ -21,11 +21,16 @@ namespace OpenMMDPD {
  */
 class CpuDPDCellGrid {
 public:
-    /** One neighbour of a cell: its index and the lattice shift that carries its particles next to the cell. */
+    /**
+     * One neighbour of a cell: its index and the periodic image through which its particles sit next
+     * to the cell, as a code 0..26 of the lattice shift n_a a + n_b b + n_c c with n_k in {-1, 0, 1}.
+     */
     struct Neighbor {
-        int cell;
-        OpenMM::Vec3 shift;
+        int cell, image;
     };
+    static constexpr int unshiftedImage = 13; // n_a = n_b = n_c = 0
+    /** n_k of an image code: 0 for a, 1 for b, 2 for c. */
+    static int imageIndex(int image, int k) { return (k == 0 ? image : k == 1 ? image/3 : image/9)%3-1; }
     static constexpr int halfStencilSize = 14; // the cell itself and 13 of its 26 neighbours
 
     /**
@@ -44,6 +49,8 @@ public:
     std::vector<int> cellStart;
     /** Wrapped positions in sorted order, one array per coordinate. */
     std::vector<double> sortedX, sortedY, sortedZ;
+    /** The lattice shift of each image code, one array per coordinate (nm). */
+    double imageShiftX[27], imageShiftY[27], imageShiftZ[27];
     /** The cells in sweep order: colour by colour, by index within a colour; colour k is [colorStart[k], colorStart[k+1]). */
     std::vector<int> cellsInSweepOrder, colorStart;
 

@@ -21,7 +21,7 @@ namespace OpenMMDPD {
  * within a cell, its particles in sorted order, each with the cell itself and then its 13 half-stencil
  * neighbours.  It depends only on the positions, not on the number of threads, and every sum a
  * particle receives is taken in that order: trajectories are bit-identical for any thread count.
- * Each pair is held as its unit vector e_ij = (q_i - q_j)/r_ij and distance, in double precision.
+ * Pairs are held as two indices and an image code; every geometric quantity is computed in double precision.
  */
 class CpuDPDPairEngine : public DPDPairEngine {
 public:
@@ -36,25 +36,23 @@ public:
                                        std::vector<OpenMM::Vec3>& forces) override;
 
 private:
-    /** One thread's pairs, colour after colour: sorted indices, unit vectors e_ij, distances; [0, size) is in use. */
+    /**
+     * One thread's pairs, colour after colour: sorted indices and the periodic image of j (a code of
+     * CpuDPDCellGrid), 12 bytes a pair; [0, size) is in use.  Distances and unit vectors are recomputed
+     * from the sorted positions by each sweep's vector pass, which is cheaper than storing them.
+     */
     struct PairBuffer {
         std::size_t size = 0;
         std::vector<int> i, j;
-        std::vector<double> ex, ey, ez, r;
+        std::vector<int> image;
         void reserveMore(std::size_t count);
     };
-    /** A thread's scratch for one cell: its half stencil's particles at their shifted positions, the distance filter's hits, force magnitudes. */
+    /** A thread's scratch for one cell: its half stencil's particles at their shifted positions, the distance filter's hits, the cell's pair geometry. */
     struct CandidateSet {
         std::vector<int> index, closeIndex;
-        std::vector<double> x, y, z, forceMagnitude;
-        void resize(int count) {
-            if (static_cast<int>(index.size()) >= count)
-                return;
-            for (auto* array : {&x, &y, &z})
-                array->resize(2*count);
-            index.resize(2*count);
-            closeIndex.resize(2*count+16);
-        }
+        std::vector<int> image;
+        std::vector<double> x, y, z, ex, ey, ez, forceMagnitude;
+        void resize(int count, std::size_t maxPairs);
     };
     /** Run body(thread) on every thread (directly when there is one). */
     void onThreads(const std::function<void(int)>& body);

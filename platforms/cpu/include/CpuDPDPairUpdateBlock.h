@@ -9,7 +9,8 @@ namespace OpenMMDPD {
 
 /**
  * The velocity-independent half of a CPU pair sweep, in one vectorised pass: for a run of pairs,
- * the affine update coefficients (slope, offset) of DPDPairFormulas.h,
+ * the unit vectors e_ij (from the sorted positions and the image of j) and the affine update
+ * coefficients (slope, offset) of DPDPairFormulas.h,
  * random numbers included (R_ij = DPDPairRandom::normal(counter, i, j), drawn with the vector math
  * library).  Pairs outside their cutoff, with zero friction or between two massless particles get
  * (0, 0).  The pass works in fixed blocks of `blockSize` pairs so that every pair takes the same code
@@ -26,16 +27,18 @@ public:
         const int* originalIndex;
         const int* frictionType;
         const double* inverseMass;
+        const double *x, *y, *z;                           // wrapped positions
+        const double *imageShiftX, *imageShiftY, *imageShiftZ; // lattice shift of each image code
     };
 
     /**
-     * Fill the coefficients of pairs [0, count) given by sorted indices i, j and distances r (> 0);
-     * the output arrays hold count rounded up to blockSize.
+     * Fill unit vectors and coefficients of pairs [0, count) given by sorted indices i, j and the
+     * image code of j; the output arrays hold count rounded up to blockSize.
      */
     void compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count, const int* i, const int* j,
-                 const double* r);
+                 const int* image);
 
-    std::vector<double> slope, offset;
+    std::vector<double> ex, ey, ez, slope, offset;
 };
 
 } // namespace OpenMMDPD

@@ -47,6 +47,12 @@ void CpuDPDCellGrid::layOut(const Vec3* box, double radius) {
     for (int k = 0; k < 3; k++)
         boxVectors[k] = box[k];
     layoutRadius = radius;
+    for (int image = 0; image < 27; image++) {
+        Vec3 shift = box[0]*imageIndex(image, 0)+box[1]*imageIndex(image, 1)+box[2]*imageIndex(image, 2);
+        imageShiftX[image] = shift[0];
+        imageShiftY[image] = shift[1];
+        imageShiftZ[image] = shift[2];
+    }
 
     // Sweep order: a counting sort of the cells by colour, by index within a colour.
     int colors[3] = {axisColors(cellsPerAxis[0]), axisColors(cellsPerAxis[1]), axisColors(cellsPerAxis[2])};
@@ -121,7 +127,7 @@ void CpuDPDCellGrid::assign(const std::vector<Vec3>& positions, const Vec3* box,
 void CpuDPDCellGrid::getHalfStencil(int cell, Neighbor stencil[halfStencilSize]) const {
     int nx = cellsPerAxis[0], ny = cellsPerAxis[1], nz = cellsPerAxis[2];
     int x = cell%nx, y = (cell/nx)%ny, z = cell/(nx*ny);
-    stencil[0] = {cell, Vec3()};
+    stencil[0] = {cell, unshiftedImage};
     int count = 1;
     for (int dz = 0; dz <= 1; dz++)
         for (int dy = (dz == 0 ? 0 : -1); dy <= 1; dy++)
@@ -132,6 +138,6 @@ void CpuDPDCellGrid::getHalfStencil(int cell, Neighbor stencil[halfStencilSize])
                 int wy = y+dy < 0 ? -1 : (y+dy >= ny ? 1 : 0);
                 int wz = z+dz >= nz ? 1 : 0;
                 int neighbor = ((z+dz-wz*nz)*ny+(y+dy-wy*ny))*nx+(x+dx-wx*nx);
-                stencil[count++] = {neighbor, boxVectors[0]*wx+boxVectors[1]*wy+boxVectors[2]*wz};
+                stencil[count++] = {neighbor, (wx+1)+3*(wy+1)+9*(wz+1)};
             }
 }

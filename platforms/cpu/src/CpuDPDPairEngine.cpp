@@ -9,13 +9,23 @@ using OpenMM::Vec3;
 void CpuDPDPairEngine::PairBuffer::reserveMore(std::size_t count) {
     if (size+count <= i.size())
         return;
-    std::size_t capacity = std::max(2*i.size(), size+count);
+    std::size_t capacity = std::max(i.size()+i.size()/4, size+count); // modest slack: the list is most of the memory
     i.resize(capacity);
     j.resize(capacity);
-    ex.resize(capacity);
-    ey.resize(capacity);
-    ez.resize(capacity);
-    r.resize(capacity);
+    image.resize(capacity);
+}
+
+void CpuDPDPairEngine::CandidateSet::resize(int count, std::size_t maxPairs) {
+    if (static_cast<int>(index.size()) < count) {
+        for (auto* array : {&x, &y, &z})
+            array->resize(2*count);
+        index.resize(2*count);
+        image.resize(2*count);
+        closeIndex.resize(2*count+16);
+    }
+    if (ex.size() < maxPairs)
+        for (auto* array : {&ex, &ey, &ez, &forceMagnitude})
+            array->resize(2*maxPairs);
 }
 
 CpuDPDPairEngine::CpuDPDPairEngine(OpenMM::ThreadPool& threads)
@@ -50,24 +60,28 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
     int numCandidates = 0;
     for (const CpuDPDCellGrid::Neighbor& neighbor : stencil)
         numCandidates += cellStart[neighbor.cell+1]-cellStart[neighbor.cell];
-    candidates.resize(numCandidates);
+    int firstOfCell = cellStart[cell], numInCell = cellStart[cell+1]-firstOfCell;
+    std::size_t maxPairs = static_cast<std::size_t>(numInCell)*numCandidates;
+    candidates.resize(numCandidates, maxPairs);
     numCandidates = 0;
     for (const CpuDPDCellGrid::Neighbor& neighbor : stencil) {
         int begin = cellStart[neighbor.cell], count = cellStart[neighbor.cell+1]-begin;
+        double shiftX = grid.imageShiftX[neighbor.image], shiftY = grid.imageShiftY[neighbor.image], shiftZ = grid.imageShiftZ[neighbor.image];
         for (int k = 0; k < count; k++) {
             candidates.index[numCandidates+k] = begin+k;
-            candidates.x[numCandidates+k] = sortedX[begin+k]+neighbor.shift[0];
-            candidates.y[numCandidates+k] = sortedY[begin+k]+neighbor.shift[1];
-            candidates.z[numCandidates+k] = sortedZ[begin+k]+neighbor.shift[2];
+            candidates.image[numCandidates+k] = neighbor.image;
+            candidates.x[numCandidates+k] = sortedX[begin+k]+shiftX;
+            candidates.y[numCandidates+k] = sortedY[begin+k]+shiftY;
+            candidates.z[numCandidates+k] = sortedZ[begin+k]+shiftZ;
         }
         numCandidates += count;
     }
-    int firstOfCell = cellStart[cell], numInCell = cellStart[cell+1]-firstOfCell;
-    std::size_t firstPairOfCell = buffer.size;
-    buffer.reserveMore(static_cast<std::size_t>(numInCell)*numCandidates);
-    if (candidates.forceMagnitude.size() < static_cast<std::size_t>(numInCell)*numCandidates)
-        candidates.forceMagnitude.resize(2*static_cast<std::size_t>(numInCell)*numCandidates);
+    std::size_t cellBegin = buffer.size;
+    buffer.reserveMore(maxPairs);
     double radius2 = radius*radius;
+    double* __restrict ex = candidates.ex.data();
+    double* __restrict ey = candidates.ey.data();
+    double* __restrict ez = candidates.ez.data();
     for (int local = 0; local < numInCell; local++) {
         int a = firstOfCell+local;
         double q[3] = {sortedX[a], sortedY[a], sortedZ[a]};
@@ -79,46 +93,36 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
             int k = close[n];
             buffer.i[base+n] = a;
             buffer.j[base+n] = candidates.index[k];
-            buffer.ex[base+n] = q[0]-candidates.x[k]; // the displacement d, normalised below
-            buffer.ey[base+n] = q[1]-candidates.y[k];
-            buffer.ez[base+n] = q[2]-candidates.z[k];
+            buffer.image[base+n] = candidates.image[k];
+            ex[base-cellBegin+n] = q[0]-candidates.x[k]; // the displacement d = q_a - (q_b + shift)
+            ey[base-cellBegin+n] = q[1]-candidates.y[k];
+            ez[base-cellBegin+n] = q[2]-candidates.z[k];
         }
         buffer.size += numClose;
-    }
-    // Distances and unit vectors e = d/r of the cell's pairs in one vector pass.
-    std::size_t cellBegin = firstPairOfCell, cellEnd = buffer.size;
-    double* __restrict ex = buffer.ex.data();
-    double* __restrict ey = buffer.ey.data();
-    double* __restrict ez = buffer.ez.data();
-    double* __restrict r = buffer.r.data();
-    for (std::size_t n = cellBegin; n < cellEnd; n++) {
-        r[n] = std::sqrt(ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n]);
-        double invR = 1.0/r[n];
-        ex[n] *= invR;
-        ey[n] *= invR;
-        ez[n] *= invR;
     }
     if (repulsion == nullptr)
         return;
     // Conservative pair force a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3):
-    // magnitudes in a vector pass, then the scatter.
+    // magnitudes over the cell's pairs in one pass, then the scatter.
+    std::size_t numPairs = buffer.size-cellBegin;
     double* __restrict magnitude = candidates.forceMagnitude.data();
-    const int* __restrict pi = buffer.i.data();
-    const int* __restrict pj = buffer.j.data();
+    const int* __restrict pi = buffer.i.data()+cellBegin;
+    const int* __restrict pj = buffer.j.data()+cellBegin;
     const int* __restrict type = sortedRepulsionType.data();
     const double* __restrict strengthTable = repulsion->value.data();
     const double* __restrict cutoffTable = repulsion->cutoff.data();
     int numTypes = repulsion->numTypes;
     double energy = 0.0;
-    for (std::size_t n = cellBegin; n < cellEnd; n++) {
+    for (std::size_t n = 0; n < numPairs; n++) {
+        double r = std::sqrt(ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n]);
         int typePair = type[pi[n]]*numTypes+type[pj[n]];
         double cutoff = cutoffTable[typePair];
-        double strength = r[n] < cutoff ? strengthTable[typePair] : 0.0, w = 1.0-r[n]/cutoff;
-        magnitude[n-cellBegin] = strength*w;
+        double strength = r < cutoff ? strengthTable[typePair] : 0.0, w = 1.0-r/cutoff;
+        magnitude[n] = strength*w/r; // times d gives a w e
         energy += 0.5*strength*cutoff*w*w;
     }
-    for (std::size_t n = cellBegin; n < cellEnd; n++) {
-        Vec3 force = Vec3(ex[n], ey[n], ez[n])*magnitude[n-cellBegin];
+    for (std::size_t n = 0; n < numPairs; n++) {
+        Vec3 force = Vec3(ex[n], ey[n], ez[n])*magnitude[n];
         sortedForces[pi[n]] += force;
         sortedForces[pj[n]] -= force;
     }
@@ -166,7 +170,9 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
 
 void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind,
         const std::function<void(int, int, int, int, const CpuDPDPairUpdateBlock&, int)>& apply) {
-    CpuDPDPairUpdateBlock::Particles particles{grid.sortedToOriginal.data(), sortedFrictionType.data(), sortedInverseMass.data()};
+    CpuDPDPairUpdateBlock::Particles particles{grid.sortedToOriginal.data(), sortedFrictionType.data(), sortedInverseMass.data(),
+                                               grid.sortedX.data(), grid.sortedY.data(), grid.sortedZ.data(),
+                                               grid.imageShiftX, grid.imageShiftY, grid.imageShiftZ};
     onThreads([&](int thread) {
         PairBuffer& buffer = buffers[thread];
         CpuDPDPairUpdateBlock& block = blocks[thread];
@@ -176,7 +182,7 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
             if (begin < end) {
                 // A thread's cells of one colour are consecutive in its buffer.
                 int first = cellPairBegin[grid.cellsInSweepOrder[begin]], last = cellPairEnd[grid.cellsInSweepOrder[end-1]];
-                block.compute(kind, sweep, particles, last-first, &buffer.i[first], &buffer.j[first], &buffer.r[first]);
+                block.compute(kind, sweep, particles, last-first, &buffer.i[first], &buffer.j[first], &buffer.image[first]);
                 for (int k = begin; k < end; k++) {
                     int cell = grid.cellsInSweepOrder[k];
                     apply(thread, cell, cellPairBegin[cell], cellPairEnd[cell], block, first);
@@ -217,7 +223,7 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
         double responseOfDissipation = 0.0;
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
-            Vec3 e(pairs.ex[k], pairs.ey[k], pairs.ez[k]);
+            Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
             double u = e.dot(sortedVelocities[a]-sortedVelocities[b]);
             double deltaP = block.slope[n]*u + block.offset[n]; // eqs. 2.14-2.17 as an affine map of u
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
@@ -248,7 +254,7 @@ void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<V
         const PairBuffer& pairs = buffers[thread];
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
-            Vec3 e(pairs.ex[k], pairs.ey[k], pairs.ez[k]);
+            Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
             double deltaP = block.slope[n]*e.dot(sortedVelocities[a]-sortedVelocities[b]) + block.offset[n]; // eq. 2.12
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
             sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
@@ -272,7 +278,7 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
         const PairBuffer& pairs = buffers[thread];
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
-            Vec3 e(pairs.ex[k], pairs.ey[k], pairs.ez[k]);
+            Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
             Vec3 force = e*(block.slope[n]*e.dot(sortedVelocities[a]-sortedVelocities[b]) + block.offset[n]); // eqs. 2.2b, 2.2c
             sortedForces[a] += force;
             sortedForces[b] -= force;

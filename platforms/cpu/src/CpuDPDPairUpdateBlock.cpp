@@ -18,14 +18,21 @@ constexpr int B = static_cast<int>(CpuDPDPairUpdateBlock::blockSize);
  */
 template <CpuDPDPairUpdateBlock::Kind kind>
 inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,
-                   const int* __restrict pi, const int* __restrict pj, const double* __restrict distance,
-                   double* __restrict slope, double* __restrict offset) {
+                   const int* __restrict pi, const int* __restrict pj, const int* __restrict image,
+                   double* __restrict ex, double* __restrict ey, double* __restrict ez, double* __restrict slope,
+                   double* __restrict offset) {
     const int numTypes = sweep.friction.numTypes;
     const double* __restrict gammaTable = sweep.friction.value.data();
     const double* __restrict cutoffTable = sweep.friction.cutoff.data();
     const int* __restrict originalIndex = particles.originalIndex;
     const int* __restrict frictionType = particles.frictionType;
     const double* __restrict inverseMass = particles.inverseMass;
+    const double* __restrict x = particles.x;
+    const double* __restrict y = particles.y;
+    const double* __restrict z = particles.z;
+    const double* __restrict shiftX = particles.imageShiftX;
+    const double* __restrict shiftY = particles.imageShiftY;
+    const double* __restrict shiftZ = particles.imageShiftZ;
     const std::uint64_t randomKey = sweep.randomKey;
     const double kT = sweep.kT, dt = sweep.dt;
     for (std::size_t block = 0; block < numBlocks; block++) {
@@ -36,7 +43,15 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
         for (int n = 0; n < B; n++) {
             std::size_t k = first+n;
             int i = pi[k], j = pj[k];
-            r[n] = distance[k];
+            int code = image[k];
+            double dx = x[i]-x[j]-shiftX[code];
+            double dy = y[i]-y[j]-shiftY[code];
+            double dz = z[i]-z[j]-shiftZ[code];
+            r[n] = std::sqrt(dx*dx+dy*dy+dz*dz);
+            double invR = 1.0/r[n];
+            ex[k] = dx*invR;
+            ey[k] = dy*invR;
+            ez[k] = dz*invR;
             int typePair = frictionType[i]*numTypes+frictionType[j];
             double cutoff = cutoffTable[typePair];
             invReducedMass[n] = inverseMass[i]+inverseMass[j];
@@ -68,13 +83,14 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
  * numbers), AVX2 and plain x86-64, chosen at run time.  The same machine always takes the same one.
  */
 using BlockPass = void (*)(std::size_t, const DPDPairSweep&, const CpuDPDPairUpdateBlock::Particles&, const int*, const int*,
-                           const double*, double*, double*);
+                           const int*, double*, double*, double*, double*, double*);
 
 #define OPENMMDPD_BLOCK_PASS(name, target)                                                                                \
     template <CpuDPDPairUpdateBlock::Kind kind>                                                                           \
     target void name(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,  \
-                     const int* pi, const int* pj, const double* r, double* slope, double* offset) {                      \
-        computeBlocks<kind>(numBlocks, sweep, particles, pi, pj, r, slope, offset);                                        \
+                     const int* pi, const int* pj, const int* image, double* ex, double* ey, double* ez,        \
+                     double* slope, double* offset) {                                                                      \
+        computeBlocks<kind>(numBlocks, sweep, particles, pi, pj, image, ex, ey, ez, slope, offset);                        \
     }
 OPENMMDPD_BLOCK_PASS(computeBlocksAVX512, __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,fma"))))
 OPENMMDPD_BLOCK_PASS(computeBlocksAVX2, __attribute__((target("avx2,fma"))))
@@ -94,22 +110,23 @@ BlockPass selectBlockPass() {
 } // namespace
 
 void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count,
-                                    const int* i, const int* j, const double* r) {
+                                    const int* i, const int* j, const int* image) {
     std::size_t wholeBlocks = count/blockSize, tail = count-wholeBlocks*blockSize;
-    slope.resize((wholeBlocks+1)*blockSize);
-    offset.resize((wholeBlocks+1)*blockSize);
+    for (std::vector<double>* out : {&ex, &ey, &ez, &slope, &offset})
+        out->resize((wholeBlocks+1)*blockSize);
     static const BlockPass passes[3] = {selectBlockPass<OrnsteinUhlenbeck>(), selectBlockPass<BBK>(), selectBlockPass<DissipativeAndRandomForce>()};
     BlockPass run = passes[kind];
-    run(wholeBlocks, sweep, particles, i, j, r, slope.data(), offset.data());
+    run(wholeBlocks, sweep, particles, i, j, image, ex.data(), ey.data(), ez.data(), slope.data(), offset.data());
     if (tail == 0)
         return;
-    // The last pairs go through the same block code, padded with a harmless pair (particle 0 with itself at distance 1).
+    // The last pairs go through the same block code, padded with particle 0 and its image across a (distance |a| > 0).
     int tailI[blockSize] = {}, tailJ[blockSize] = {};
-    double tailR[blockSize];
-    std::fill(tailR, tailR+blockSize, 1.0);
+    int tailImage[blockSize];
+    std::fill(tailImage, tailImage+blockSize, 14);
     std::size_t first = wholeBlocks*blockSize;
     std::copy(i+first, i+count, tailI);
     std::copy(j+first, j+count, tailJ);
-    std::copy(r+first, r+count, tailR);
-    run(1, sweep, particles, tailI, tailJ, tailR, slope.data()+first, offset.data()+first);
+    std::copy(image+first, image+count, tailImage);
+    run(1, sweep, particles, tailI, tailJ, tailImage, ex.data()+first, ey.data()+first, ez.data()+first, slope.data()+first,
+        offset.data()+first);
 }

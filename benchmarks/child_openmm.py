@@ -1,0 +1,39 @@
+"""One timed run of an OpenMM integrator on the soft DPD fluid (rho = 3, a = 25, r_c = 1, gamma = 4.5,
+kT = 1, dt = 0.04, CPU platform); prints one JSON line.  Run by benchmarks/bench.py, one process per
+run so that the peak memory is the run's own.
+
+Usage: python child_openmm.py METHOD N THREADS STEPS
+METHOD: ABOBA, VV, S1 (openmmdpd with DPDForce), OpenMM-DPD (openmm.DPDIntegrator with the soft force as
+a CustomNonbondedForce), OpenMM-arrays (an OpenMM VerletIntegrator and no force: OpenMM's own arrays,
+the baseline of the memory per particle).
+"""
+
+import json
+import resource
+import sys
+import time
+
+import openmm as mm
+
+import openmmdpd as dpd
+from openmmdpd.study.scene import replace_with_custom_soft_force
+
+method, n, threads, steps = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
+system, positions = dpd.soft_fluid(n, 3.0, seed=1)
+if method == "OpenMM-DPD":
+    replace_with_custom_soft_force(system, 25.0, 1.0)
+    integrator = mm.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.04)
+elif method == "OpenMM-arrays":
+    while system.getNumForces() > 0:
+        system.removeForce(0)
+    integrator = mm.VerletIntegrator(0.04)
+else:
+    integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.04, method)
+context = mm.Context(system, integrator, mm.Platform.getPlatformByName("CPU"), {"Threads": threads})
+context.setPositions(positions)
+context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 1)
+integrator.step(3)
+start = time.perf_counter()
+integrator.step(steps)
+seconds = (time.perf_counter() - start) / steps
+print(json.dumps({"seconds_per_step": seconds, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
