@@ -34,12 +34,19 @@ public:
     static constexpr int halfStencilSize = 14; // the cell itself and 13 of its 26 neighbours
 
     /**
-     * Sort the particles into cells at least `radius` thick.  Throws an OpenMMException naming the
-     * particle if a position is not finite, and if the box is too thin for the radius.
+     * Sorting the particles into cells at least `radius` thick, in four phases so that the engine
+     * can run the per-particle ones on its threads: prepare (lay the cells out for this box, size the
+     * arrays; throws if the box is too thin for the radius), locate particles [begin, end) (returns
+     * the first with a non-finite position, or -1), sortByCell (serial), gatherSortedPositions.
      */
-    void assign(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, double radius);
+    void prepare(int numParticles, const OpenMM::Vec3* box, double radius);
+    int locate(const std::vector<OpenMM::Vec3>& positions, int begin, int end);
+    void sortByCell();
+    void gatherSortedPositions(int begin, int end);
+    /** The OpenMMException for a particle whose position is not finite. */
+    [[noreturn]] static void throwNonFinite(const std::vector<OpenMM::Vec3>& positions, int particle);
 
-    int getNumCells() const { return static_cast<int>(cellStart.size())-1; }
+    int getNumCells() const { return cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2]; }
     int getNumColors() const { return static_cast<int>(colorStart.size())-1; }
     /** The half stencil of a cell: first the cell itself (shift 0), then 13 neighbours. */
     void getHalfStencil(int cell, Neighbor stencil[halfStencilSize]) const;

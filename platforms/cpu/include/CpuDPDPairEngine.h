@@ -59,13 +59,20 @@ private:
     /** The cells [begin, end) of sweep order that a thread takes within a colour. */
     void cellsOfThread(int color, int thread, int& begin, int& end) const;
     void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates);
+    /** The first sorted particle of a thread's share of [0, numParticles). */
+    int particleRangeBegin(int thread, int numParticles) const {
+        return static_cast<int>(static_cast<long long>(numParticles)*thread/numThreads);
+    }
+    using ParticleRangeTask = std::function<void(int begin, int end)>;
+    using CellTask = std::function<void(int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart)>;
     /**
-     * The successive sweep shared by O, BBK and VV: per colour, the thread's pairs get their
-     * coefficients in one vector pass, then apply(pair range of a cell, cell) runs cell by cell.
+     * The successive sweep shared by O, BBK and VV, in one task on the threads: each thread gathers
+     * its share of the particles into sorted order, then per colour its pairs get their coefficients
+     * in one vector pass and apply(pair range of a cell) runs cell by cell, then each thread scatters
+     * its share back.
      */
-    void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind,
-                      const std::function<void(int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart)>& apply);
-    void gatherSortedParticleData(const DPDPairSweep& sweep);
+    void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
+                      const CellTask& apply, const ParticleRangeTask& scatter);
 
     OpenMM::ThreadPool& threads;
     int numThreads;

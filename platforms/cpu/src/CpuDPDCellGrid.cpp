@@ -73,27 +73,25 @@ void CpuDPDCellGrid::layOut(const Vec3* box, double radius) {
         cellsInSweepOrder[next[colorOfCell[cell]]++] = cell;
 }
 
-void CpuDPDCellGrid::assign(const std::vector<Vec3>& positions, const Vec3* box, double radius) {
-    int numParticles = static_cast<int>(positions.size());
+void CpuDPDCellGrid::prepare(int numParticles, const Vec3* box, double radius) {
     sortedToOriginal.resize(numParticles);
     if (radius != layoutRadius || box[0] != boxVectors[0] || box[1] != boxVectors[1] || box[2] != boxVectors[2])
         layOut(box, radius);
-    int numCells = cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2];
     cellOfParticle.resize(numParticles);
     wrappedPositions.resize(numParticles);
     sortedX.resize(numParticles);
     sortedY.resize(numParticles);
     sortedZ.resize(numParticles);
-    cellStart.assign(numCells+1, 0);
+}
+
+int CpuDPDCellGrid::locate(const std::vector<Vec3>& positions, int begin, int end) {
     // Fractional coordinates in OpenMM's lower-triangular box: f_c = z/c_z, f_b = (y - f_c c_y)/b_y,
     // f_a = (x - f_b b_x - f_c c_x)/a_x, each reduced into [0, 1) with the position.
-    for (int i = 0; i < numParticles; i++) {
+    const Vec3* box = boxVectors;
+    for (int i = begin; i < end; i++) {
         Vec3 p = positions[i];
-        if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) {
-            std::stringstream message;
-            message << "DPD pair search: particle " << i << " has a non-finite position (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
-            throw OpenMM::OpenMMException(message.str());
-        }
+        if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])))
+            return i;
         double fraction[3];
         for (int k = 2; k >= 0; k--) {
             double f = p[k];
@@ -109,19 +107,37 @@ void CpuDPDCellGrid::assign(const std::vector<Vec3>& positions, const Vec3* box,
             index[k] = std::min(cellsPerAxis[k]-1, std::max(0, static_cast<int>(fraction[k]*cellsPerAxis[k])));
         cellOfParticle[i] = (index[2]*cellsPerAxis[1]+index[1])*cellsPerAxis[0]+index[0];
         wrappedPositions[i] = p;
-        cellStart[cellOfParticle[i]+1]++;
     }
+    return -1;
+}
+
+void CpuDPDCellGrid::sortByCell() {
+    // A stable counting sort: within a cell, particles keep their order in the System.
+    int numParticles = static_cast<int>(cellOfParticle.size()), numCells = cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2];
+    cellStart.assign(numCells+1, 0);
+    for (int i = 0; i < numParticles; i++)
+        cellStart[cellOfParticle[i]+1]++;
     for (int cell = 0; cell < numCells; cell++)
         cellStart[cell+1] += cellStart[cell];
     fill.assign(cellStart.begin(), cellStart.end()-1);
     for (int i = 0; i < numParticles; i++)
         sortedToOriginal[fill[cellOfParticle[i]]++] = i;
-    for (int s = 0; s < numParticles; s++) {
+}
+
+void CpuDPDCellGrid::gatherSortedPositions(int begin, int end) {
+    for (int s = begin; s < end; s++) {
         const Vec3& p = wrappedPositions[sortedToOriginal[s]];
         sortedX[s] = p[0];
         sortedY[s] = p[1];
         sortedZ[s] = p[2];
     }
+}
+
+void CpuDPDCellGrid::throwNonFinite(const std::vector<Vec3>& positions, int particle) {
+    const Vec3& p = positions[particle];
+    std::stringstream message;
+    message << "DPD pair search: particle " << particle << " has a non-finite position (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+    throw OpenMM::OpenMMException(message.str());
 }
 
 void CpuDPDCellGrid::getHalfStencil(int cell, Neighbor stencil[halfStencilSize]) const {

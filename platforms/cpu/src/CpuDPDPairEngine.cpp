@@ -132,18 +132,34 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
 double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec3* box, double radius,
                                    const DPDTypePairTable::Compiled* repulsion, std::vector<Vec3>* forces) {
     this->radius = radius;
-    grid.assign(positions, box, radius);
-    int numParticles = static_cast<int>(positions.size()), numCells = grid.getNumCells();
+    int numParticles = static_cast<int>(positions.size());
+    grid.prepare(numParticles, box, radius);
+    int numCells = grid.getNumCells();
     cellPairBegin.resize(numCells);
     cellPairEnd.resize(numCells);
     cellSum.assign(numCells, 0.0);
     if (repulsion != nullptr) {
         sortedRepulsionType.resize(numParticles);
-        for (int s = 0; s < numParticles; s++)
-            sortedRepulsionType[s] = repulsion->particleTypeIndex[grid.sortedToOriginal[s]];
-        sortedForces.assign(numParticles, Vec3());
+        sortedForces.resize(numParticles);
     }
+    std::vector<int> nonFinite(numThreads, -1);
     onThreads([&](int thread) {
+        int first = particleRangeBegin(thread, numParticles), last = particleRangeBegin(thread+1, numParticles);
+        nonFinite[thread] = grid.locate(positions, first, last);
+        barrier.wait();
+        for (int bad : nonFinite)
+            if (bad >= 0)
+                return; // thrown below, outside the threads
+        if (thread == 0)
+            grid.sortByCell();
+        barrier.wait();
+        grid.gatherSortedPositions(first, last);
+        if (repulsion != nullptr)
+            for (int s = first; s < last; s++) {
+                sortedRepulsionType[s] = repulsion->particleTypeIndex[grid.sortedToOriginal[s]];
+                sortedForces[s] = Vec3();
+            }
+        barrier.wait();
         PairBuffer& buffer = buffers[thread];
         buffer.size = 0;
         for (int color = 0; color < grid.getNumColors(); color++) {
@@ -159,21 +175,35 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
                 barrier.wait();
         }
         if (repulsion != nullptr)
-            for (int s = numParticles*thread/numThreads; s < numParticles*(thread+1)/numThreads; s++)
+            for (int s = first; s < last; s++)
                 (*forces)[grid.sortedToOriginal[s]] += sortedForces[s];
     });
+    for (int bad : nonFinite)
+        if (bad >= 0)
+            CpuDPDCellGrid::throwNonFinite(positions, bad);
     double energy = 0.0;
     for (int cell : grid.cellsInSweepOrder)
         energy += cellSum[cell];
     return energy;
 }
 
-void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind,
-        const std::function<void(int, int, int, int, const CpuDPDPairUpdateBlock&, int)>& apply) {
+void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
+                                    const CellTask& apply, const ParticleRangeTask& scatter) {
+    int numParticles = static_cast<int>(grid.sortedToOriginal.size());
+    sortedFrictionType.resize(numParticles);
+    sortedInverseMass.resize(numParticles);
     CpuDPDPairUpdateBlock::Particles particles{grid.sortedToOriginal.data(), sortedFrictionType.data(), sortedInverseMass.data(),
                                                grid.sortedX.data(), grid.sortedY.data(), grid.sortedZ.data(),
                                                grid.imageShiftX, grid.imageShiftY, grid.imageShiftZ};
     onThreads([&](int thread) {
+        int firstParticle = particleRangeBegin(thread, numParticles), lastParticle = particleRangeBegin(thread+1, numParticles);
+        for (int s = firstParticle; s < lastParticle; s++) {
+            int original = grid.sortedToOriginal[s];
+            sortedFrictionType[s] = sweep.friction.particleTypeIndex[original];
+            sortedInverseMass[s] = sweep.inverseMasses[original];
+        }
+        gather(firstParticle, lastParticle);
+        barrier.wait();
         PairBuffer& buffer = buffers[thread];
         CpuDPDPairUpdateBlock& block = blocks[thread];
         for (int color = 0; color < grid.getNumColors(); color++) {
@@ -190,35 +220,24 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
             }
             barrier.wait();
         }
+        scatter(firstParticle, lastParticle);
     });
-}
-
-void CpuDPDPairEngine::gatherSortedParticleData(const DPDPairSweep& sweep) {
-    int numParticles = static_cast<int>(grid.sortedToOriginal.size());
-    sortedFrictionType.resize(numParticles);
-    sortedInverseMass.resize(numParticles);
-    for (int s = 0; s < numParticles; s++) {
-        int original = grid.sortedToOriginal[s];
-        sortedFrictionType[s] = sweep.friction.particleTypeIndex[original];
-        sortedInverseMass[s] = sweep.inverseMasses[original];
-    }
 }
 
 double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<Vec3>& velocities,
                                                         const std::vector<Vec3>* response) {
-    gatherSortedParticleData(sweep);
     const std::vector<int>& original = grid.sortedToOriginal;
-    int numParticles = static_cast<int>(original.size());
-    sortedVelocities.resize(numParticles);
-    for (int s = 0; s < numParticles; s++)
-        sortedVelocities[s] = velocities[original[s]];
-    if (response != nullptr) {
-        sortedResponse.resize(numParticles);
-        for (int s = 0; s < numParticles; s++)
-            sortedResponse[s] = (*response)[original[s]];
-    }
-    sweepByColor(sweep, CpuDPDPairUpdateBlock::OrnsteinUhlenbeck,
-                 [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
+    sortedVelocities.resize(original.size());
+    if (response != nullptr)
+        sortedResponse.resize(original.size());
+    auto gather = [&](int begin, int end) {
+        for (int s = begin; s < end; s++)
+            sortedVelocities[s] = velocities[original[s]];
+        if (response != nullptr)
+            for (int s = begin; s < end; s++)
+                sortedResponse[s] = (*response)[original[s]];
+    };
+    auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const PairBuffer& pairs = buffers[thread];
         double responseOfDissipation = 0.0;
         for (int k = first; k < last; k++) {
@@ -232,9 +251,12 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
                 responseOfDissipation += block.slope[n]*u*e.dot(sortedResponse[a]-sortedResponse[b]);
         }
         cellSum[cell] = responseOfDissipation;
-    });
-    for (int s = 0; s < numParticles; s++)
-        velocities[original[s]] = sortedVelocities[s];
+    };
+    auto scatter = [&](int begin, int end) {
+        for (int s = begin; s < end; s++)
+            velocities[original[s]] = sortedVelocities[s];
+    };
+    sweepByColor(sweep, CpuDPDPairUpdateBlock::OrnsteinUhlenbeck, gather, apply, scatter);
     double responseOfDissipation = 0.0;
     if (response != nullptr)
         for (int cell : grid.cellsInSweepOrder)
@@ -243,14 +265,13 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
 }
 
 void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<Vec3>& velocities) {
-    gatherSortedParticleData(sweep);
     const std::vector<int>& original = grid.sortedToOriginal;
-    int numParticles = static_cast<int>(original.size());
-    sortedVelocities.resize(numParticles);
-    for (int s = 0; s < numParticles; s++)
-        sortedVelocities[s] = velocities[original[s]];
-    sweepByColor(sweep, CpuDPDPairUpdateBlock::BBK,
-                 [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
+    sortedVelocities.resize(original.size());
+    auto gather = [&](int begin, int end) {
+        for (int s = begin; s < end; s++)
+            sortedVelocities[s] = velocities[original[s]];
+    };
+    auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const PairBuffer& pairs = buffers[thread];
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
@@ -259,22 +280,26 @@ void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<V
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
             sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
         }
-    });
-    for (int s = 0; s < numParticles; s++)
-        velocities[original[s]] = sortedVelocities[s];
+    };
+    auto scatter = [&](int begin, int end) {
+        for (int s = begin; s < end; s++)
+            velocities[original[s]] = sortedVelocities[s];
+    };
+    sweepByColor(sweep, CpuDPDPairUpdateBlock::BBK, gather, apply, scatter);
 }
 
 void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,
                                                      std::vector<Vec3>& forces) {
-    gatherSortedParticleData(sweep);
     const std::vector<int>& original = grid.sortedToOriginal;
-    int numParticles = static_cast<int>(original.size());
-    sortedVelocities.resize(numParticles);
-    for (int s = 0; s < numParticles; s++)
-        sortedVelocities[s] = velocities[original[s]];
-    sortedForces.assign(numParticles, Vec3());
-    sweepByColor(sweep, CpuDPDPairUpdateBlock::DissipativeAndRandomForce,
-                 [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
+    sortedVelocities.resize(original.size());
+    sortedForces.resize(original.size());
+    auto gather = [&](int begin, int end) {
+        for (int s = begin; s < end; s++) {
+            sortedVelocities[s] = velocities[original[s]];
+            sortedForces[s] = Vec3();
+        }
+    };
+    auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const PairBuffer& pairs = buffers[thread];
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
@@ -283,7 +308,10 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
             sortedForces[a] += force;
             sortedForces[b] -= force;
         }
-    });
-    for (int s = 0; s < numParticles; s++)
-        forces[original[s]] += sortedForces[s];
+    };
+    auto scatter = [&](int begin, int end) {
+        for (int s = begin; s < end; s++)
+            forces[original[s]] += sortedForces[s];
+    };
+    sweepByColor(sweep, CpuDPDPairUpdateBlock::DissipativeAndRandomForce, gather, apply, scatter);
 }
