@@ -28,6 +28,8 @@ public:
     virtual void loadCheckpoint(std::istream& stream) = 0;
     virtual DPDIntegrator::TransportStatistics getTransportStatistics() const = 0;
     virtual void resetTransportStatistics() = 0;
+    virtual DPDIntegrator::StressStatistics getStressStatistics() const = 0;
+    virtual void resetStressStatistics() = 0;
 };
 
 } // namespace OpenMMDPD

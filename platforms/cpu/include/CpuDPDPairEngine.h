@@ -22,6 +22,9 @@ namespace OpenMMDPD {
  * neighbours.  It depends only on the positions, not on the number of threads, and every sum a
  * particle receives is taken in that order: trajectories are bit-identical for any thread count.
  * Each pair is held as its unit vector e_ij = (q_i - q_j)/r_ij and distance, in double precision.
+ * Under Lees-Edwards shear the box's tilt b_x changes every step: the grid is laid out again (O(cells),
+ * small against the search), and a stencil neighbour wrapped in y is seen through a shift that includes
+ * b, hence the sliding offset; the pair's minimum-image y separation r e_y then carries its image.
  */
 class CpuDPDPairEngine : public DPDPairEngine {
 public:
@@ -68,6 +71,11 @@ private:
     void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind,
                       const std::function<void(int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart)>& apply);
     void gatherSortedParticleData(const DPDPairSweep& sweep);
+    /** The stress sums of one cell, cleared, when the sweep gathers stress; else null. */
+    DPDPairStressSums* cellStressOf(const DPDPairSweep& sweep, int cell);
+    static void addPairStress(DPDPairStressSums& sums, double r, const OpenMM::Vec3& e, double dissipative, double random);
+    /** Add the cells' stress sums to the sweep's, in sweep order. */
+    void sumCellStress(const DPDPairSweep& sweep);
 
     OpenMM::ThreadPool& threads;
     int numThreads;
@@ -79,6 +87,7 @@ private:
     std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its thread's buffer
     std::vector<CpuDPDPairUpdateBlock> blocks;        // one per thread
     std::vector<double> forceMagnitudes;              // scratch of the conservative force pass
+    std::vector<DPDPairStressSums> cellStress;      // per-cell pair stress sums of a sweep that gathers stress
     std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order
     std::vector<OpenMM::Vec3> sortedForces, sortedVelocities, sortedResponse;
     std::vector<int> sortedRepulsionType, sortedFrictionType;

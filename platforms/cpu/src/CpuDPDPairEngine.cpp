@@ -1,5 +1,6 @@
 #include "CpuDPDPairEngine.h"
 #include "CpuDPDDistanceFilter.h"
+#include "DPDPairFormulas.h"
 #include <algorithm>
 #include <cmath>
 
@@ -187,8 +188,28 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
     });
 }
 
+void CpuDPDPairEngine::addPairStress(DPDPairStressSums& sums, double r, const Vec3& e, double dissipative, double random) {
+    DPDPairStressSums::addPair(sums.dissipative, r, dissipative, e[0], e[1], e[2]);
+    DPDPairStressSums::addPair(sums.random, r, random, e[0], e[1], e[2]);
+}
+
+DPDPairStressSums* CpuDPDPairEngine::cellStressOf(const DPDPairSweep& sweep, int cell) {
+    if (sweep.stress == nullptr)
+        return nullptr;
+    cellStress[cell] = DPDPairStressSums();
+    return &cellStress[cell];
+}
+
+void CpuDPDPairEngine::sumCellStress(const DPDPairSweep& sweep) {
+    if (sweep.stress != nullptr) // in sweep order, whatever the number of threads
+        for (int cell : grid.cellsInSweepOrder)
+            sweep.stress->add(cellStress[cell]);
+}
+
 void CpuDPDPairEngine::gatherSortedParticleData(const DPDPairSweep& sweep) {
     int numParticles = static_cast<int>(grid.sortedToOriginal.size());
+    if (sweep.stress != nullptr)
+        cellStress.resize(grid.getNumCells());
     sortedFrictionType.resize(numParticles);
     sortedInverseMass.resize(numParticles);
     for (int s = 0; s < numParticles; s++) {
@@ -214,14 +235,17 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
     sweepByColor(sweep, CpuDPDPairUpdateBlock::OrnsteinUhlenbeck,
                  [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const PairBuffer& pairs = buffers[thread];
+        DPDPairStressSums* stress = cellStressOf(sweep, cell);
         double responseOfDissipation = 0.0;
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(pairs.ex[k], pairs.ey[k], pairs.ez[k]);
-            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]);
+            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, pairs.r[k], e[0], e[1]);
             double deltaP = block.slope[n]*u + block.offset[n]; // eqs. 2.14-2.17 as an affine map of u
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
             sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
+            if (stress != nullptr)
+                addPairStress(*stress, pairs.r[k], e, block.slope[n]*u, block.offset[n]);
             if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
                 responseOfDissipation += block.slope[n]*u*e.dot(sortedResponse[a]-sortedResponse[b]);
         }
@@ -229,6 +253,7 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
     });
     for (int s = 0; s < numParticles; s++)
         velocities[original[s]] = sortedVelocities[s];
+    sumCellStress(sweep);
     double responseOfDissipation = 0.0;
     if (response != nullptr)
         for (int cell : grid.cellsInSweepOrder)
@@ -246,14 +271,19 @@ void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<V
     sweepByColor(sweep, CpuDPDPairUpdateBlock::BBK,
                  [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const PairBuffer& pairs = buffers[thread];
+        DPDPairStressSums* stress = cellStressOf(sweep, cell);
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(pairs.ex[k], pairs.ey[k], pairs.ez[k]);
-            double deltaP = block.slope[n]*e.dot(sortedVelocities[a]-sortedVelocities[b]) + block.offset[n]; // eq. 2.12
+            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, pairs.r[k], e[0], e[1]);
+            double deltaP = block.slope[n]*u + block.offset[n]; // eq. 2.12
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
             sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
+            if (stress != nullptr)
+                addPairStress(*stress, pairs.r[k], e, block.slope[n]*u, block.offset[n]);
         }
     });
+    sumCellStress(sweep);
     for (int s = 0; s < numParticles; s++)
         velocities[original[s]] = sortedVelocities[s];
 }
@@ -270,14 +300,19 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
     sweepByColor(sweep, CpuDPDPairUpdateBlock::DissipativeAndRandomForce,
                  [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const PairBuffer& pairs = buffers[thread];
+        DPDPairStressSums* stress = cellStressOf(sweep, cell);
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(pairs.ex[k], pairs.ey[k], pairs.ez[k]);
-            Vec3 force = e*(block.slope[n]*e.dot(sortedVelocities[a]-sortedVelocities[b]) + block.offset[n]); // eqs. 2.2b, 2.2c
+            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, pairs.r[k], e[0], e[1]);
+            Vec3 force = e*(block.slope[n]*u + block.offset[n]); // eqs. 2.2b, 2.2c
             sortedForces[a] += force;
             sortedForces[b] -= force;
+            if (stress != nullptr)
+                addPairStress(*stress, pairs.r[k], e, block.slope[n]*u, block.offset[n]);
         }
     });
+    sumCellStress(sweep);
     for (int s = 0; s < numParticles; s++)
         forces[original[s]] += sortedForces[s];
 }

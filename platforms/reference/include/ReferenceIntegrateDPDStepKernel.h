@@ -25,6 +25,8 @@ public:
     void loadCheckpoint(std::istream& stream) override { dynamics->loadCheckpoint(stream); }
     DPDIntegrator::TransportStatistics getTransportStatistics() const override { return dynamics->getTransportStatistics(); }
     void resetTransportStatistics() override { dynamics->resetTransportStatistics(); }
+    DPDIntegrator::StressStatistics getStressStatistics() const override { return dynamics->getStressStatistics(); }
+    void resetStressStatistics() override { dynamics->resetStressStatistics(); }
 
 private:
     DPDPairEngineFactory makeEngine;

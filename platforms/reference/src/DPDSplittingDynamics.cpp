@@ -5,6 +5,9 @@
 #include "openmm/reference/ReferencePlatform.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include "openmmdpd/internal/DPDForceImpl.h"
+#include "openmmdpd/DPDForce.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/NonbondedForce.h"
 #include <algorithm>
 #include <cmath>
 #include <istream>
@@ -45,6 +48,18 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
     Vec3 box[3];
     system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
+    largestCutoff = friction.maxCutoff;
+    for (int k = 0; k < system.getNumForces(); k++) {
+        const OpenMM::Force& force = system.getForce(k);
+        if (auto* dpd = dynamic_cast<const DPDForce*>(&force))
+            largestCutoff = std::max(largestCutoff, dpd->getTable().compile(system.getNumParticles()).maxCutoff);
+        else if (auto* custom = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force))
+            largestCutoff = std::max(largestCutoff, custom->getCutoffDistance());
+        else if (auto* nonbonded = dynamic_cast<const OpenMM::NonbondedForce*>(&force))
+            largestCutoff = std::max(largestCutoff, nonbonded->getCutoffDistance());
+    }
+    if (integrator.getShearRate() != 0.0)
+        DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
 
     // Share the DPDForce's pair list when its search radius covers every dissipative cutoff and it is
     // evaluated with the integration force groups (checked again at every evaluation).
@@ -60,7 +75,9 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
     }
 }
 
-bool DPDSplittingDynamics::drift(std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, double dt) const {
+bool DPDSplittingDynamics::drift(std::vector<Vec3>& positions, std::vector<Vec3>& velocities, double dt) const {
+    if (leesEdwards.isSheared())
+        return leesEdwards.drift(positions, velocities, inverseMasses, dt, maxDisplacementPerDrift);
     // A finite but runaway state is caught too: no particle of a sound simulation moves half the
     // box in one step, and past that the minimum image and the pair lists lose their meaning.
     double limit2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
@@ -73,6 +90,11 @@ bool DPDSplittingDynamics::drift(std::vector<Vec3>& positions, const std::vector
         sound &= displacement.dot(displacement) <= limit2; // false for NaN and infinity as well
     }
     return sound;
+}
+
+void DPDSplittingDynamics::moveImages(OpenMM::ContextImpl& context, double elapsed) {
+    if (leesEdwards.isSheared())
+        leesEdwards.moveImages(context, arrays(context).box, elapsed);
 }
 
 bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt) const {
@@ -144,6 +166,7 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     bool nemd = integrator.getForcingMode() == DPDIntegrator::NEMD;
     if (!drift(state.positions, state.velocities, 0.5*dt))                     // A(dt/2), eq. 2.19
         throwNonFinite(context, "positions");
+    moveImages(context, 0.5*dt);                                                // Lees-Edwards offset at t + h/2
     DPDPairEngine& pairs = evaluateForcesAndPairs(context);                     // the one force evaluation, at q^{n+1/2}
     double eta = integrator.getForcingStrength();
     if (nemd)
@@ -152,13 +175,14 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     if (nemd)
         applyForcingImpulse(0.5*dt*eta, state.velocities);                      // + eta F dt/2 (NEMD's B, eq. 17)
     if (!friction.allValuesZero)
-        pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
+        pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
     if (!kick(state.velocities, state.forces, 0.5*dt))                          // B(dt/2), eq. 2.23
         throwNonFinite(context, "velocities");
     if (nemd)
         applyForcingImpulse(0.5*dt*eta, state.velocities);
     if (!drift(state.positions, state.velocities, 0.5*dt))                      // A(dt/2), eq. 2.24
         throwNonFinite(context, "positions");
+    moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     if (nemd) {
         evaluateForcingFields(integrator, state.positions, state.box);          // G(q^{n+1})
         transport.lastResponse = responseOf(state.velocities);                  // R at (q^{n+1}, p^{n+1}), for eq. 9
@@ -219,10 +243,11 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
         forceAtCurrentPositions = state.forces;
     }
     if (!friction.allValuesZero)
-        pairsAtCurrentPositions->applyPairwiseBBK(nextSweep(dt), state.velocities); // O(dt), eq. 2.12
+        pairsAtCurrentPositions->applyPairwiseBBK(nextSweep(dt, pairStressOfStep()), state.velocities); // O(dt), eq. 2.12
     kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // B(dt/2), eq. 2.13a
     if (!drift(state.positions, state.velocities, dt))                          // A(dt), eq. 2.13b
         throwNonFinite(context, "positions");
+    moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     evaluateForcesAndPairs(context);                                            // at q^{n+1}, reused next step
     forceAtCurrentPositions = state.forces;
     if (!kick(state.velocities, forceAtCurrentPositions, 0.5*dt))               // B(dt/2), eq. 2.13c
@@ -240,10 +265,11 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
     kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // eq. 2.3a, with the stored forces
     if (!drift(state.positions, state.velocities, dt))                          // eq. 2.3b
         throwNonFinite(context, "positions");
+    moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     DPDPairEngine& pairs = evaluateForcesAndPairs(context);
     forceAtCurrentPositions = state.forces;
-    if (!friction.allValuesZero)
-        pairs.addDissipativeAndRandomForces(nextSweep(dt), state.velocities, forceAtCurrentPositions); // at (q^{n+1}, p^{n+1/2})
+    if (!friction.allValuesZero)                                                // at (q^{n+1}, p^{n+1/2})
+        pairs.addDissipativeAndRandomForces(nextSweep(dt, pairStressOfStep()), state.velocities, forceAtCurrentPositions);
     if (!kick(state.velocities, forceAtCurrentPositions, 0.5*dt))               // eq. 2.3c
         throwNonFinite(context, "velocities");
 }
@@ -262,6 +288,15 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     keepStoredForceThroughStateChanges = false;
     if (integrator.getForcingMode() != DPDIntegrator::NoForcing && scheme != DPDIntegrator::ABOBA)
         throw OpenMM::OpenMMException("DPDIntegrator: NEMD and Norton dynamics are implemented with the ABOBA scheme only");
+    leesEdwards.setShearRate(integrator.getShearRate());
+    if (leesEdwards.isSheared()) {
+        if (integrator.getForcingMode() != DPDIntegrator::NoForcing)
+            throw OpenMM::OpenMMException("DPDIntegrator: Lees-Edwards shear cannot be combined with NEMD or Norton forcing");
+        DPDLeesEdwardsFlow::checkBox(context.getSystem(), state.box, largestCutoff, leesEdwards.getShearRate());
+        leesEdwards.beginStep(state.box);
+    }
+    accumulateStress = integrator.getStressAccumulation();
+    stepPairStress = DPDPairStressSums();
     if (scheme == DPDIntegrator::ABOBA && integrator.getForcingMode() == DPDIntegrator::Norton)
         stepABOBANorton(context, stepSize, integrator);
     else if (scheme == DPDIntegrator::ABOBA)
@@ -270,6 +305,13 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
         stepS1(context, stepSize);
     else
         stepVV(context, stepSize);
+    if (leesEdwards.isSheared()) // lattice shifts only: forces, pairs and peculiar velocities are unchanged
+        DPDLeesEdwardsFlow::wrapIntoPrimaryCell(state.positions, state.box);
+    if (accumulateStress) {
+        stress.addPairSums(stepPairStress, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize, state.box);
+        stress.addKineticAndConservative(context.getSystem(), state.positions, state.velocities, masses, state.box);
+        stress.endSample();
+    }
     if (scheme != DPDIntegrator::ABOBA) {
         forceAtCurrentPositionsValid = true;
         for (int k = 0; k < 3; k++)
@@ -306,6 +348,7 @@ void DPDSplittingDynamics::createCheckpoint(std::ostream& stream) const {
     // Only VV's stored force depends on more than the positions (the velocities and random numbers
     // of the previous step's end); S1 recomputes its stored force from the positions, bit for bit.
     stream.write(reinterpret_cast<const char*>(&transport), sizeof(transport));
+    stream.write(reinterpret_cast<const char*>(&stress.getStatistics()), sizeof(DPDIntegrator::StressStatistics));
     bool storeForce = scheme == DPDIntegrator::VV && forceAtCurrentPositionsValid;
     stream.write(reinterpret_cast<const char*>(&storeForce), sizeof(storeForce));
     if (storeForce) {
@@ -320,6 +363,7 @@ void DPDSplittingDynamics::loadCheckpoint(std::istream& stream) {
     random = DPDPairRandom(seed);
     stream.read(reinterpret_cast<char*>(&sweepCounter), sizeof(sweepCounter));
     stream.read(reinterpret_cast<char*>(&transport), sizeof(transport));
+    stream.read(reinterpret_cast<char*>(&stress.getStatistics()), sizeof(DPDIntegrator::StressStatistics));
     bool storedForce;
     stream.read(reinterpret_cast<char*>(&storedForce), sizeof(storedForce));
     pairsAtCurrentPositions = nullptr;

