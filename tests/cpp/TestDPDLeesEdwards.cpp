@@ -7,6 +7,7 @@
 #include "openmm/serialization/XmlSerializer.h"
 #include <gtest/gtest.h>
 #include <cmath>
+#include <iostream>
 #include <sstream>
 #include <tuple>
 
@@ -122,4 +123,72 @@ TEST(LeesEdwardsPlatforms, ShearChangesTheTrajectoryOnlyThroughTheFlow) {
     }
     EXPECT_TRUE(bitIdentical(result[0], result[1]));
     EXPECT_GT(maxAbsDifference(result[0].velocities, result[2].velocities), 1e-3);
+}
+
+namespace {
+
+/** The streaming profile <v_x>(y) in the lab frame (v + kappa y e_x) over equal bins of y, and the fit of its slope. */
+struct StreamingProfile {
+    std::vector<BlockEstimate> bins;
+    BlockEstimate slope;
+};
+
+StreamingProfile measureProfile(Context& context, DPDIntegrator& integrator, double kappa, int numBins, int numSamples, int stepsPerSample) {
+    std::vector<std::vector<double> > binSeries(numBins);
+    std::vector<double> slopeSeries;
+    for (int sample = 0; sample < numSamples; sample++) {
+        integrator.step(stepsPerSample);
+        State state = context.getState(State::Positions | State::Velocities);
+        Vec3 a, b, c;
+        state.getPeriodicBoxVectors(a, b, c);
+        double L = b[1];
+        std::vector<double> sum(numBins, 0.0), count(numBins, 0.0);
+        double sxy = 0.0, syy = 0.0, sx = 0.0, sy = 0.0, n = 0.0;
+        for (std::size_t i = 0; i < state.getPositions().size(); i++) {
+            double y = state.getPositions()[i][1];
+            double vx = state.getVelocities()[i][0] + kappa*y; // lab frame
+            int bin = std::min(numBins-1, static_cast<int>(y/L*numBins));
+            sum[bin] += vx;
+            count[bin] += 1.0;
+            sxy += y*vx; syy += y*y; sx += vx; sy += y; n += 1.0;
+        }
+        for (int k = 0; k < numBins; k++)
+            binSeries[k].push_back(count[k] > 0 ? sum[k]/count[k] : 0.0);
+        slopeSeries.push_back((sxy - sx*sy/n)/(syy - sy*sy/n)); // least-squares slope of v_x against y
+    }
+    StreamingProfile profile;
+    for (const auto& series : binSeries)
+        profile.bins.push_back(blockAverage(series));
+    profile.slope = blockAverage(slopeSeries);
+    return profile;
+}
+
+} // namespace
+
+TEST(LeesEdwardsProfile, StreamingProfileIsLinearWithoutAJumpAtTheBoundary) {
+    // The paper's sheared scene (gamma = 450, kappa = 0.2, N = 500, rho = 3) at h = 0.01 with S1 and ABOBA.
+    const double kappa = 0.2;
+    EquilibratedFluid start = equilibratedSoftFluid(500, 3.0, 200, 12);
+    for (const char* scheme : {"S1", "ABOBA"}) {
+        DPDIntegrator integrator(reducedTemperature, 450.0, 1.0, 0.01, scheme);
+        integrator.setRandomNumberSeed(21);
+        integrator.setLeesEdwards(kappa);
+        auto context = makeContext(start, integrator, "CPU");
+        zeroMomentum(*context); // a centre of mass moving along y would carry the profile with it (v_x -= kappa t v_y)
+        integrator.step(300); // the flow develops within a few momentum relaxation times
+        StreamingProfile profile = measureProfile(*context, integrator, kappa, 8, 1500, 8);
+        SCOPED_TRACE(scheme);
+        std::cout << scheme << ": profile slope " << profile.slope.mean << " +- " << profile.slope.standardError << " (kappa " << kappa << ")\n";
+        EXPECT_LT(profile.slope.standardError, 0.015*kappa); // the test resolves a 2% error
+        EXPECT_NEAR(profile.slope.mean, kappa, 0.02*kappa);
+        // No jump: the lab profile continued across y = L_y through the image (+kappa L_y) meets the first bin.
+        double L = start.fluid.boxLength, binWidth = L/8;
+        for (int k = 0; k < 8; k++) {
+            double expected = kappa*(k+0.5)*binWidth;
+            EXPECT_NEAR(profile.bins[k].mean, expected, 4*profile.bins[k].standardError+0.005) << "bin " << k;
+        }
+        double jump = (profile.bins[0].mean + kappa*L) - profile.bins[7].mean - kappa*binWidth;
+        double jumpError = std::hypot(profile.bins[0].standardError, profile.bins[7].standardError);
+        EXPECT_LT(std::fabs(jump), 4*jumpError+0.005);
+    }
 }
