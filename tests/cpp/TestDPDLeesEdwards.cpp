@@ -3,6 +3,8 @@
 // kappa = 0.2, checkpoints, XML and bad input.
 
 #include "DPDTestSupport.h"
+#include "DPDLeesEdwardsFlow.h"
+#include "openmmdpd/DPDShearProfile.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/serialization/XmlSerializer.h"
 #include <gtest/gtest.h>
@@ -191,4 +193,102 @@ TEST(LeesEdwardsProfile, StreamingProfileIsLinearWithoutAJumpAtTheBoundary) {
         double jumpError = std::hypot(profile.bins[0].standardError, profile.bins[7].standardError);
         EXPECT_LT(std::fabs(jump), 4*jumpError+0.005);
     }
+}
+
+TEST(LeesEdwardsPersistence, CheckpointRestoresOffsetAndStressSumsBitIdentically) {
+    for (const std::string& platformName : allPlatforms)
+        for (const std::string& scheme : allSchemes) {
+            SCOPED_TRACE(platformName+" "+scheme);
+            EquilibratedFluid start = equilibratedSoftFluid(200, 3.0, 50, 13);
+            DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.01, scheme);
+            integrator.setRandomNumberSeed(5);
+            integrator.setLeesEdwards(0.3);
+            integrator.setStressAccumulation(true);
+            auto context = makeContext(start, integrator, platformName);
+            integrator.step(15);
+            std::stringstream checkpoint;
+            context->createCheckpoint(checkpoint);
+            integrator.step(15);
+            Snapshot first = snapshot(*context);
+            DPDIntegrator::StressStatistics firstStress = integrator.getStressStatistics();
+            Vec3 firstBox[3];
+            context->getState(State::Positions).getPeriodicBoxVectors(firstBox[0], firstBox[1], firstBox[2]);
+            context->loadCheckpoint(checkpoint);
+            integrator.step(15);
+            Snapshot second = snapshot(*context);
+            DPDIntegrator::StressStatistics secondStress = integrator.getStressStatistics();
+            Vec3 secondBox[3];
+            context->getState(State::Positions).getPeriodicBoxVectors(secondBox[0], secondBox[1], secondBox[2]);
+            EXPECT_TRUE(bitIdentical(first, second));
+            EXPECT_EQ(firstBox[1][0], secondBox[1][0]);
+            EXPECT_NE(firstBox[1][0], 0.0);
+            EXPECT_EQ(firstStress.steps, 30);
+            EXPECT_EQ(secondStress.steps, 30);
+            for (int k = 0; k < 9; k++) {
+                EXPECT_EQ(firstStress.kinetic[k], secondStress.kinetic[k]);
+                EXPECT_EQ(firstStress.conservative[k], secondStress.conservative[k]);
+                EXPECT_EQ(firstStress.dissipative[k], secondStress.dissipative[k]);
+                EXPECT_EQ(firstStress.random[k], secondStress.random[k]);
+            }
+        }
+}
+
+TEST(LeesEdwardsPersistence, XmlKeepsTheShearRateAndStressAccumulation) {
+    DPDIntegrator integrator(reducedTemperature, 450.0, 1.0, 0.01, DPDIntegrator::S1);
+    integrator.setLeesEdwards(0.2);
+    integrator.setStressAccumulation(true);
+    std::stringstream xml;
+    XmlSerializer::serialize<DPDIntegrator>(&integrator, "DPDIntegrator", xml);
+    std::unique_ptr<DPDIntegrator> copy(XmlSerializer::deserialize<DPDIntegrator>(xml));
+    EXPECT_EQ(copy->getShearRate(), 0.2);
+    EXPECT_TRUE(copy->getStressAccumulation());
+    DPDIntegrator plain(reducedTemperature, 4.5, 1.0, 0.01, DPDIntegrator::S1);
+    std::stringstream plainXml;
+    XmlSerializer::serialize<DPDIntegrator>(&plain, "DPDIntegrator", plainXml);
+    std::unique_ptr<DPDIntegrator> plainCopy(XmlSerializer::deserialize<DPDIntegrator>(plainXml));
+    EXPECT_EQ(plainCopy->getShearRate(), 0.0);
+    EXPECT_FALSE(plainCopy->getStressAccumulation());
+}
+
+TEST(LeesEdwardsBadInput, ShearRateMustBeFiniteAndNonNegative) {
+    DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.01, DPDIntegrator::ABOBA);
+    EXPECT_TRUE(throwsMentioning([&] { integrator.setLeesEdwards(-0.1); }, {"shear rate", "-0.1", ">= 0"}));
+    EXPECT_TRUE(throwsMentioning([&] { integrator.setLeesEdwards(std::nan("")); }, {"shear rate", "finite"}));
+    EXPECT_TRUE(throwsMentioning([&] { integrator.setLeesEdwards(INFINITY); }, {"shear rate", "finite"}));
+}
+
+TEST(LeesEdwardsBadInput, NeedsAPeriodicSystemAReducedBoxAndASmallEnoughCutoff) {
+    auto contextWith = [](SoftFluid& fluid, double cutoff) {
+        DPDIntegrator integrator(reducedTemperature, 4.5, cutoff, 0.01, DPDIntegrator::ABOBA);
+        integrator.setLeesEdwards(0.2);
+        Context context(*fluid.system, integrator, platform("Reference"));
+    };
+    {   // no periodic force: a System of free particles
+        SoftFluid fluid = makeSoftFluid(50, 3.0, 1, false);
+        EXPECT_TRUE(throwsMentioning([&] { contextWith(fluid, 1.0); }, {"shear rate", "periodic"}));
+    }
+    {   // the offset outside [-L_x/2, L_x/2]: OpenMM refuses it already, so give b a z component instead
+        SoftFluid fluid = makeSoftFluid(200, 3.0);
+        double L = fluid.boxLength;
+        fluid.system->setDefaultPeriodicBoxVectors(Vec3(L, 0, 0), Vec3(0, L, 0), Vec3(0.5, 0, L));
+        EXPECT_TRUE(throwsMentioning([&] { contextWith(fluid, 1.0); }, {"shear rate", "a = (L_x, 0, 0)"}));
+    }
+    {   // a box so thin in y that the DPDForce's cutoff (1) exceeds L_y/2 (the dissipative one, 0.5, does not)
+        SoftFluid fluid = makeSoftFluid(200, 3.0);
+        double L = fluid.boxLength;
+        fluid.system->setDefaultPeriodicBoxVectors(Vec3(2*L, 0, 0), Vec3(0, 1.8, 0), Vec3(0, 0, L));
+        EXPECT_TRUE(throwsMentioning([&] { contextWith(fluid, 0.5); }, {"cutoff", "1 nm", "0.9 nm"}));
+    }
+    {   // NEMD and Norton do not combine with shear
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.01, DPDIntegrator::ABOBA);
+        integrator.setLeesEdwards(0.2);
+        DPDShearProfile profile(DPDShearProfile::Sinusoidal);
+        EXPECT_TRUE(throwsMentioning([&] { integrator.setNEMD(profile, 0.1); }, {"Lees-Edwards"}));
+    }
+}
+
+TEST(LeesEdwardsBadInput, OffsetOutsideTheReducedFormIsNamed) {
+    const Vec3 box[3] = {Vec3(4, 0, 0), Vec3(2.5, 4, 0), Vec3(0, 0, 4)};
+    SoftFluid fluid = makeSoftFluid(50, 3.0);
+    EXPECT_TRUE(throwsMentioning([&] { DPDLeesEdwardsFlow::checkBox(*fluid.system, box, 1.0, 0.2); }, {"offset b_x = 2.5", "[-2, 2]"}));
 }

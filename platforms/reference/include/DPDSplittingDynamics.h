@@ -66,7 +66,10 @@ private:
 
     /** q += dt v (sheared: DPDLeesEdwardsFlow::drift); false if a position became non-finite or a particle moved more than half the box. */
     bool drift(std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities, double dt) const;
-    /** Under shear: set the box offset to its value `elapsed` after the step's start (the time of the positions). */
+    /**
+     * Under shear: set the box offset to its value `elapsed` after the step's start (the time of the
+     * positions); at elapsed = h also wrap the positions into the primary cell.
+     */
     void moveImages(OpenMM::ContextImpl& context, double elapsed);
     /** The stress sums a sweep should gather into this step, or null when stress is not accumulated. */
     DPDPairStressSums* pairStressOfStep() { return accumulateStress ? &stepPairStress : nullptr; }

@@ -93,8 +93,15 @@ bool DPDSplittingDynamics::drift(std::vector<Vec3>& positions, std::vector<Vec3>
 }
 
 void DPDSplittingDynamics::moveImages(OpenMM::ContextImpl& context, double elapsed) {
-    if (leesEdwards.isSheared())
-        leesEdwards.moveImages(context, arrays(context).box, elapsed);
+    if (!leesEdwards.isSheared())
+        return;
+    ContextArrays state = arrays(context);
+    leesEdwards.moveImages(context, state.box, elapsed);
+    // At the step's end, before its force evaluation, the positions are wrapped into the primary cell
+    // (lattice shifts only): the pairs are then found from the positions the Context keeps, and a
+    // continuation from a checkpoint finds them bit for bit.
+    if (elapsed == stepSize)
+        DPDLeesEdwardsFlow::wrapIntoPrimaryCell(state.positions, state.box);
 }
 
 bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt) const {
@@ -166,7 +173,7 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     bool nemd = integrator.getForcingMode() == DPDIntegrator::NEMD;
     if (!drift(state.positions, state.velocities, 0.5*dt))                     // A(dt/2), eq. 2.19
         throwNonFinite(context, "positions");
-    moveImages(context, 0.5*dt);                                                // Lees-Edwards offset at t + h/2
+    moveImages(context, 0.5*dt);                                                // Lees-Edwards offset at t + h/2 (h/2 < h: no wrap)
     DPDPairEngine& pairs = evaluateForcesAndPairs(context);                     // the one force evaluation, at q^{n+1/2}
     double eta = integrator.getForcingStrength();
     if (nemd)
@@ -305,8 +312,6 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
         stepS1(context, stepSize);
     else
         stepVV(context, stepSize);
-    if (leesEdwards.isSheared()) // lattice shifts only: forces, pairs and peculiar velocities are unchanged
-        DPDLeesEdwardsFlow::wrapIntoPrimaryCell(state.positions, state.box);
     if (accumulateStress) {
         stress.addPairSums(stepPairStress, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize, state.box);
         stress.addKineticAndConservative(context.getSystem(), state.positions, state.velocities, masses, state.box);
