@@ -50,6 +50,9 @@ void DPDIntegrator::setNEMD(const DPDForcingProfile& profile, double forcing) {
     if (scheme != ABOBA)
         throw OpenMMException("DPDIntegrator: NEMD and Norton dynamics are implemented with the ABOBA scheme only (scheme is "+
                               schemeName(scheme)+")");
+    if (shearRate != 0.0)
+        throw OpenMMException("DPDIntegrator: NEMD and Norton forcing cannot be combined with Lees-Edwards shear (shear rate is "+
+                              std::to_string(shearRate)+"); they drive their own flow in a plain periodic box");
     forcingProfile = profile.clone();
     forcingMode = NEMD;
     forcingStrength = forcing;
@@ -64,6 +67,28 @@ void DPDIntegrator::setNorton(const DPDForcingProfile& profile, double response)
     setNEMD(profile, 0.0);
     forcingMode = Norton;
     forcingStrength = response;
+}
+
+void DPDIntegrator::setLeesEdwards(double rate) {
+    if (!std::isfinite(rate) || rate < 0) {
+        std::stringstream message;
+        message << "DPDIntegrator: Lees-Edwards shear rate = " << rate << " 1/ps is out of range; it must be finite and >= 0";
+        throw OpenMMException(message.str());
+    }
+    if (rate != 0.0 && forcingMode != NoForcing)
+        throw OpenMMException("DPDIntegrator: Lees-Edwards shear cannot be combined with NEMD or Norton forcing; call clearForcing() first");
+    shearRate = rate;
+}
+
+DPDIntegrator::StressStatistics DPDIntegrator::getStressStatistics() const {
+    if (context == nullptr)
+        return StressStatistics();
+    return kernel.getAs<const IntegrateDPDStepKernel>().getStressStatistics();
+}
+
+void DPDIntegrator::resetStressStatistics() {
+    if (context != nullptr)
+        kernel.getAs<IntegrateDPDStepKernel>().resetStressStatistics();
 }
 
 void DPDIntegrator::clearForcing() {

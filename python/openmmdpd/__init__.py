@@ -23,6 +23,7 @@ from ._observables import (  # noqa: E402
 )
 from ._scenes import REDUCED_TEMPERATURE, lj_fluid, soft_fluid  # noqa: E402
 from ._dpd_reporter import DPDReporter  # noqa: E402
+from .shear import StressStatistics, ShearSamples, sample_shear, shear_viscosity, plot_streaming_profile  # noqa: E402
 
 __all__ = [
     "DPDForce",
@@ -42,4 +43,9 @@ __all__ = [
     "virial_pressure",
     "pair_distance_histogram",
     "radial_distribution",
+    "StressStatistics",
+    "ShearSamples",
+    "sample_shear",
+    "shear_viscosity",
+    "plot_streaming_profile",
 ]

@@ -171,6 +171,33 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
         """Start the sums of R and lambda afresh (e.g. after equilibration)."""
         _openmmdpd.integrator_reset_transport_statistics(self)
 
+    def setLeesEdwards(self, shear_rate: Number) -> None:
+        """Lees-Edwards shear flow along x with gradient along y (Shang 2021 sec. 3.1.2): shear rate
+        ``kappa`` in 1/ps (finite, >= 0; 0 = plain periodic box).  The box offset lives in the second box
+        vector ``b = (offset, L_y, 0)``.  Velocities in the Context are then PECULIAR, ``v - kappa y e_x``
+        (the lab-frame velocity is ``v + kappa y e_x``); positions are kept in the primary cell."""
+        _openmmdpd.integrator_set_lees_edwards(self, value_in(shear_rate, unit.picosecond**-1))
+
+    def getShearRate(self) -> float:
+        """The Lees-Edwards shear rate in 1/ps (0 without shear)."""
+        return _openmmdpd.integrator_get_shear_rate(self)
+
+    def setStressAccumulation(self, accumulate: bool) -> None:
+        """Accumulate the stress tensor (eq. 3.3) in every step; off by default (no cost unless asked)."""
+        _openmmdpd.integrator_set_stress_accumulation(self, bool(accumulate))
+
+    def getStressAccumulation(self) -> bool:
+        return _openmmdpd.integrator_get_stress_accumulation(self)
+
+    def getStressStatistics(self):
+        """The stress sums since the last reset: an :class:`openmmdpd.StressStatistics` (part of checkpoints)."""
+        from .shear import StressStatistics
+        return StressStatistics.from_sums(*_openmmdpd.integrator_stress_statistics(self))
+
+    def resetStressStatistics(self) -> None:
+        """Start the stress sums afresh (e.g. after the flow has developed)."""
+        _openmmdpd.integrator_reset_stress_statistics(self)
+
     def __repr__(self) -> str:
         return (f"<openmmdpd.DPDIntegrator scheme={self.getScheme()} T={self.getTemperature()} K "
                 f"friction={self.getDefaultFriction()} cutoff={self.getDefaultCutoff()} dt={self.getStepSize()}>")

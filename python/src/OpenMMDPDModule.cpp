@@ -149,6 +149,17 @@ NB_MODULE(_openmmdpd, m) {
     });
     m.def("integrator_reset_transport_statistics", [](nb::handle proxy) { integratorOf(proxy).resetTransportStatistics(); });
 
+    m.def("integrator_set_lees_edwards", [](nb::handle proxy, double rate) { integratorOf(proxy).setLeesEdwards(rate); });
+    m.def("integrator_get_shear_rate", [](nb::handle proxy) { return integratorOf(proxy).getShearRate(); });
+    m.def("integrator_set_stress_accumulation", [](nb::handle proxy, bool on) { integratorOf(proxy).setStressAccumulation(on); });
+    m.def("integrator_get_stress_accumulation", [](nb::handle proxy) { return integratorOf(proxy).getStressAccumulation(); });
+    m.def("integrator_stress_statistics", [](nb::handle proxy) {
+        DPDIntegrator::StressStatistics s = integratorOf(proxy).getStressStatistics();
+        auto list = [](const double* values) { return std::vector<double>(values, values+9); };
+        return std::make_tuple(s.steps, list(s.kinetic), list(s.conservative), list(s.dissipative), list(s.random));
+    });
+    m.def("integrator_reset_stress_statistics", [](nb::handle proxy) { integratorOf(proxy).resetStressStatistics(); });
+
     m.def("configurational_sums", [](nb::handle context) {
         DPDObservables::ConfigurationalSums sums = DPDObservables::configurationalSums(contextOf(context));
         return std::make_tuple(sums.gradientSquared, sums.laplacian);

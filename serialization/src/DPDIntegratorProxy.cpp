@@ -20,6 +20,8 @@ void DPDIntegratorProxy::serialize(const void* object, OpenMM::SerializationNode
     node.setDoubleProperty("constraintTolerance", integrator.getConstraintTolerance());
     node.setIntProperty("integrationForceGroups", integrator.getIntegrationForceGroups());
     node.setIntProperty("randomSeed", integrator.getRandomNumberSeed());
+    node.setDoubleProperty("shearRate", integrator.getShearRate());
+    node.setBoolProperty("stressAccumulation", integrator.getStressAccumulation());
     DPDTypePairTableSerializer::write(integrator.getTable(), "friction", node);
     if (integrator.getForcingMode() != DPDIntegrator::NoForcing) {
         OpenMM::SerializationNode& forcing = node.createChildNode("Forcing");
@@ -41,6 +43,8 @@ void* DPDIntegratorProxy::deserialize(const OpenMM::SerializationNode& node) con
     integrator->setConstraintTolerance(node.getDoubleProperty("constraintTolerance"));
     integrator->setIntegrationForceGroups(node.getIntProperty("integrationForceGroups"));
     integrator->setRandomNumberSeed(node.getIntProperty("randomSeed"));
+    integrator->setLeesEdwards(node.getDoubleProperty("shearRate", 0.0)); // absent in files written before Lees-Edwards
+    integrator->setStressAccumulation(node.getBoolProperty("stressAccumulation", false));
     DPDTypePairTableSerializer::read(node, "friction", integrator->getTable());
     for (const OpenMM::SerializationNode& forcing : node.getChildren()) {
         if (forcing.getName() != "Forcing")

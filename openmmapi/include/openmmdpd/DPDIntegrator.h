@@ -32,6 +32,22 @@ namespace OpenMMDPD {
  * each step; setNorton holds R at r with Lagrange multipliers in A, B and O (eqs. 52-69) and
  * accumulates the forcing lambda = l / dt of each step (eq. 70), martingale part excluded (eq. 63).
  *
+ * Lees-Edwards shear flow (Shang 2021 sec. 3.1.2, eqs. 3.2-3.4), with VV, S1 and ABOBA (setLeesEdwards):
+ * planar Couette flow along x with its gradient along y, u(y) = kappa y e_x.  The image of the box across
+ * y slides along x with velocity kappa L_y; its offset is the x component of the second box vector,
+ * b = (offset, L_y, 0), kept in OpenMM's reduced form (-L_x/2 <= b_x <= L_x/2, whole multiples of L_x
+ * removed), so every force of the System sees the sheared images.  The offset is set to its value at
+ * the time the positions of each force evaluation belong to (ABOBA: t + h/2; S1, VV: t + h).
+ * VELOCITIES ARE PECULIAR under shear: the Context holds v - kappa y e_x (y the position's own y, wrapped
+ * or not), which does not change when a position is moved by a lattice vector; the lab-frame velocity
+ * is v + kappa y e_x.  Kinetic energy and temperature are peculiar.  Positions are wrapped into the
+ * primary cell after each step (the flow would otherwise carry x without bound).  NEMD and Norton
+ * forcing drive their own flow in a plain periodic box and are not combined with Lees-Edwards.
+ *
+ * The stress tensor (Irving-Kirkwood, Shang 2021 eq. 3.3), sigma = -(1/V)[sum_i m_i u_i (x) u_i +
+ * sum_{i<j} r_ij (x) F_ij] with peculiar velocities u_i, is accumulated when asked (setStressAccumulation)
+ * in four parts: kinetic, conservative, dissipative, random (see StressStatistics).
+ *
  * Particles of zero mass do not move; virtual sites follow their parent particles after every drift and
  * take no part in the thermostat.  Constraints and non-periodic Systems are refused.
  */
@@ -44,6 +60,24 @@ public:
         long long steps = 0;
         double responseSum = 0.0, forcingSum = 0.0;
         double lastResponse = 0.0, lastForcing = 0.0;
+    };
+    /**
+     * Sums over the steps since the last reset of the stress tensor sigma (kJ/mol/nm^3, row-major 3x3,
+     * sigma = -P; Shang 2021 eq. 3.3), one sample per step, in four parts:
+     *  - kinetic:      -(1/V) sum_i m_i u_i (x) u_i with the peculiar velocities at the end of the step;
+     *  - conservative: -(1/V) sum_{i<j} r_ij (x) F^C_ij at the end-of-step positions, from the DPDForce and
+     *                  any isotropic pairwise CustomNonbondedForce (other forces: an exception);
+     *  - dissipative, random: VV: -(1/V) sum r_ij (x) F^D_ij and F^R_ij, the explicit pair forces of the
+     *                  step (at q^{n+1}, v^{n+1/2}).  S1 and ABOBA: -(1/V) sum r_ij (x) Delta p_ij / h, the
+     *                  momentum each pair exchanges in the O sweep (S1 at q^n, ABOBA at q^{n+1/2}), with
+     *                  Delta p = slope u + offset split into its velocity-dependent part (dissipative)
+     *                  and its noise part (random) (DPDPairFormulas.h).  As h -> 0 Delta p / h tends to
+     *                  F^D + F^R, so both definitions are the same stress in the limit.
+     * The viscosity under shear is eta = <sigma_xy>/kappa (eq. 3.4).
+     */
+    struct StressStatistics {
+        long long steps = 0;
+        double kinetic[9] = {}, conservative[9] = {}, dissipative[9] = {}, random[9] = {};
     };
 
     /**
@@ -115,6 +149,21 @@ public:
     void resetTransportStatistics();
 
     /**
+     * Lees-Edwards shear flow with shear rate kappa (1/ps; finite, >= 0; 0 is a plain periodic box, the
+     * default).  Needs a periodic System whose box is a = (L_x, 0, 0), b = (b_x, L_y, 0), c = (0, 0, L_z)
+     * with |b_x| <= L_x/2 and every cutoff at most L_y/2; checked when the Context is made and at each step.
+     * Velocities in the Context are then peculiar (see the class comment).  Not with NEMD or Norton.
+     */
+    void setLeesEdwards(double shearRate);
+    double getShearRate() const { return shearRate; }
+    /** Accumulate the stress tensor in every step (off by default: no cost unless asked). */
+    void setStressAccumulation(bool accumulate) { accumulateStress = accumulate; }
+    bool getStressAccumulation() const { return accumulateStress; }
+    /** Stress sums since the Context was made or resetStressStatistics() was called. */
+    StressStatistics getStressStatistics() const;
+    void resetStressStatistics();
+
+    /**
      * Advance the simulation.  A step that produces a non-finite position or velocity throws an
      * OpenMMException naming the step, the scheme and the step size.
      */
@@ -137,6 +186,8 @@ private:
     ForcingMode forcingMode = NoForcing;
     std::shared_ptr<const DPDForcingProfile> forcingProfile;
     double forcingStrength = 0.0;
+    double shearRate = 0.0;
+    bool accumulateStress = false;
     DPDTypePairTable table;
     OpenMM::Kernel kernel;
 };

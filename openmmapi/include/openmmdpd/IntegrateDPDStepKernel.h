@@ -30,6 +30,8 @@ public:
     virtual void resetTransportStatistics() = 0;
     /** Restart the pairwise random numbers from `seed` (0: a new seed) from the next step on. */
     virtual void setRandomNumberSeed(int seed) = 0;
+    virtual DPDIntegrator::StressStatistics getStressStatistics() const = 0;
+    virtual void resetStressStatistics() = 0;
 };
 
 } // namespace OpenMMDPD

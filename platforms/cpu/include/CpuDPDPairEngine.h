@@ -22,6 +22,9 @@ namespace OpenMMDPD {
  * neighbours.  It depends only on the positions, not on the number of threads, and every sum a
  * particle receives is taken in that order: trajectories are bit-identical for any thread count.
  * Pairs are held as two indices and an image code; every geometric quantity is computed in double precision.
+ * Under Lees-Edwards shear the box's tilt b_x changes every step: the grid is laid out again (O(cells),
+ * small against the search), and a stencil neighbour wrapped in y is seen through a shift that includes
+ * b, hence the sliding offset; the pair's minimum-image y separation r e_y then carries its image.
  */
 class CpuDPDPairEngine : public DPDPairEngine {
 public:
@@ -73,6 +76,11 @@ private:
      */
     void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                       const CellTask& apply, const ParticleRangeTask& scatter);
+    /** The stress sums of one cell, cleared, when the sweep gathers stress; else null. */
+    DPDPairStressSums* cellStressOf(const DPDPairSweep& sweep, int cell);
+    static void addPairStress(DPDPairStressSums& sums, double r, const OpenMM::Vec3& e, double dissipative, double random);
+    /** Add the cells' stress sums to the sweep's, in sweep order. */
+    void sumCellStress(const DPDPairSweep& sweep);
 
     OpenMM::ThreadPool& threads;
     int numThreads;
@@ -83,6 +91,7 @@ private:
     std::vector<CandidateSet> candidateSets;          // one per thread
     std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its thread's buffer
     std::vector<CpuDPDPairUpdateBlock> blocks;        // one per thread
+    std::vector<DPDPairStressSums> cellStress;        // per-cell pair stress sums of a sweep that gathers stress
     std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order
     std::vector<OpenMM::Vec3> sortedForces, sortedVelocities, sortedResponse;
     std::vector<int> sortedRepulsionType, sortedFrictionType;

@@ -38,7 +38,7 @@ public:
     void compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count, const int* i, const int* j,
                  const int* image);
 
-    std::vector<double> ex, ey, ez, slope, offset;
+    std::vector<double> ex, ey, ez, r, slope, offset;
 };
 
 } // namespace OpenMMDPD

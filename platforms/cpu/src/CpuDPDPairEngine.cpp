@@ -1,5 +1,6 @@
 #include "CpuDPDPairEngine.h"
 #include "CpuDPDDistanceFilter.h"
+#include "DPDPairFormulas.h"
 #include <algorithm>
 #include <cmath>
 
@@ -192,6 +193,8 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
     int numParticles = static_cast<int>(grid.sortedToOriginal.size());
     sortedFrictionType.resize(numParticles);
     sortedInverseMass.resize(numParticles);
+    if (sweep.stress != nullptr)
+        cellStress.resize(grid.getNumCells());
     CpuDPDPairUpdateBlock::Particles particles{grid.sortedToOriginal.data(), sortedFrictionType.data(), sortedInverseMass.data(),
                                                grid.sortedX.data(), grid.sortedY.data(), grid.sortedZ.data(),
                                                grid.imageShiftX, grid.imageShiftY, grid.imageShiftZ};
@@ -224,6 +227,24 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
     });
 }
 
+void CpuDPDPairEngine::addPairStress(DPDPairStressSums& sums, double r, const Vec3& e, double dissipative, double random) {
+    DPDPairStressSums::addPair(sums.dissipative, r, dissipative, e[0], e[1], e[2]);
+    DPDPairStressSums::addPair(sums.random, r, random, e[0], e[1], e[2]);
+}
+
+DPDPairStressSums* CpuDPDPairEngine::cellStressOf(const DPDPairSweep& sweep, int cell) {
+    if (sweep.stress == nullptr)
+        return nullptr;
+    cellStress[cell] = DPDPairStressSums();
+    return &cellStress[cell];
+}
+
+void CpuDPDPairEngine::sumCellStress(const DPDPairSweep& sweep) {
+    if (sweep.stress != nullptr) // in sweep order, whatever the number of threads
+        for (int cell : grid.cellsInSweepOrder)
+            sweep.stress->add(cellStress[cell]);
+}
+
 double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<Vec3>& velocities,
                                                         const std::vector<Vec3>* response) {
     const std::vector<int>& original = grid.sortedToOriginal;
@@ -239,14 +260,17 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
     };
     auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const PairBuffer& pairs = buffers[thread];
+        DPDPairStressSums* stress = cellStressOf(sweep, cell);
         double responseOfDissipation = 0.0;
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
-            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]);
+            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
             double deltaP = block.slope[n]*u + block.offset[n]; // eqs. 2.14-2.17 as an affine map of u
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
             sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
+            if (stress != nullptr)
+                addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
             if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
                 responseOfDissipation += block.slope[n]*u*e.dot(sortedResponse[a]-sortedResponse[b]);
         }
@@ -257,6 +281,7 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
             velocities[original[s]] = sortedVelocities[s];
     };
     sweepByColor(sweep, CpuDPDPairUpdateBlock::OrnsteinUhlenbeck, gather, apply, scatter);
+    sumCellStress(sweep);
     double responseOfDissipation = 0.0;
     if (response != nullptr)
         for (int cell : grid.cellsInSweepOrder)
@@ -273,12 +298,16 @@ void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<V
     };
     auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const PairBuffer& pairs = buffers[thread];
+        DPDPairStressSums* stress = cellStressOf(sweep, cell);
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
-            double deltaP = block.slope[n]*e.dot(sortedVelocities[a]-sortedVelocities[b]) + block.offset[n]; // eq. 2.12
+            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
+            double deltaP = block.slope[n]*u + block.offset[n]; // eq. 2.12
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
             sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
+            if (stress != nullptr)
+                addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
         }
     };
     auto scatter = [&](int begin, int end) {
@@ -286,6 +315,7 @@ void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<V
             velocities[original[s]] = sortedVelocities[s];
     };
     sweepByColor(sweep, CpuDPDPairUpdateBlock::BBK, gather, apply, scatter);
+    sumCellStress(sweep);
 }
 
 void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,
@@ -301,12 +331,16 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
     };
     auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const PairBuffer& pairs = buffers[thread];
+        DPDPairStressSums* stress = cellStressOf(sweep, cell);
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
-            Vec3 force = e*(block.slope[n]*e.dot(sortedVelocities[a]-sortedVelocities[b]) + block.offset[n]); // eqs. 2.2b, 2.2c
+            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
+            Vec3 force = e*(block.slope[n]*u + block.offset[n]); // eqs. 2.2b, 2.2c
             sortedForces[a] += force;
             sortedForces[b] -= force;
+            if (stress != nullptr)
+                addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
         }
     };
     auto scatter = [&](int begin, int end) {
@@ -314,4 +348,5 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
             forces[original[s]] += sortedForces[s];
     };
     sweepByColor(sweep, CpuDPDPairUpdateBlock::DissipativeAndRandomForce, gather, apply, scatter);
+    sumCellStress(sweep);
 }

@@ -19,8 +19,8 @@ constexpr int B = static_cast<int>(CpuDPDPairUpdateBlock::blockSize);
 template <CpuDPDPairUpdateBlock::Kind kind>
 inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,
                    const int* __restrict pi, const int* __restrict pj, const int* __restrict image,
-                   double* __restrict ex, double* __restrict ey, double* __restrict ez, double* __restrict slope,
-                   double* __restrict offset) {
+                   double* __restrict ex, double* __restrict ey, double* __restrict ez, double* __restrict distance,
+                   double* __restrict slope, double* __restrict offset) {
     const int numTypes = sweep.friction.numTypes;
     const double* __restrict gammaTable = sweep.friction.value.data();
     const double* __restrict cutoffTable = sweep.friction.cutoff.data();
@@ -48,6 +48,7 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
             double dy = y[i]-y[j]-shiftY[code];
             double dz = z[i]-z[j]-shiftZ[code];
             r[n] = std::sqrt(dx*dx+dy*dy+dz*dz);
+            distance[k] = r[n];
             double invR = 1.0/r[n];
             ex[k] = dx*invR;
             ey[k] = dy*invR;
@@ -83,14 +84,14 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
  * numbers), AVX2 and plain x86-64, chosen at run time.  The same machine always takes the same one.
  */
 using BlockPass = void (*)(std::size_t, const DPDPairSweep&, const CpuDPDPairUpdateBlock::Particles&, const int*, const int*,
-                           const int*, double*, double*, double*, double*, double*);
+                           const int*, double*, double*, double*, double*, double*, double*);
 
 #define OPENMMDPD_BLOCK_PASS(name, target)                                                                                \
     template <CpuDPDPairUpdateBlock::Kind kind>                                                                           \
     target void name(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,  \
-                     const int* pi, const int* pj, const int* image, double* ex, double* ey, double* ez,        \
-                     double* slope, double* offset) {                                                                      \
-        computeBlocks<kind>(numBlocks, sweep, particles, pi, pj, image, ex, ey, ez, slope, offset);                        \
+                     const int* pi, const int* pj, const int* image, double* ex, double* ey, double* ez,                  \
+                     double* r, double* slope, double* offset) {                                                           \
+        computeBlocks<kind>(numBlocks, sweep, particles, pi, pj, image, ex, ey, ez, r, slope, offset);                     \
     }
 OPENMMDPD_BLOCK_PASS(computeBlocksAVX512, __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,fma"))))
 OPENMMDPD_BLOCK_PASS(computeBlocksAVX2, __attribute__((target("avx2,fma"))))
@@ -112,11 +113,11 @@ BlockPass selectBlockPass() {
 void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count,
                                     const int* i, const int* j, const int* image) {
     std::size_t wholeBlocks = count/blockSize, tail = count-wholeBlocks*blockSize;
-    for (std::vector<double>* out : {&ex, &ey, &ez, &slope, &offset})
+    for (std::vector<double>* out : {&ex, &ey, &ez, &r, &slope, &offset})
         out->resize((wholeBlocks+1)*blockSize);
     static const BlockPass passes[3] = {selectBlockPass<OrnsteinUhlenbeck>(), selectBlockPass<BBK>(), selectBlockPass<DissipativeAndRandomForce>()};
     BlockPass run = passes[kind];
-    run(wholeBlocks, sweep, particles, i, j, image, ex.data(), ey.data(), ez.data(), slope.data(), offset.data());
+    run(wholeBlocks, sweep, particles, i, j, image, ex.data(), ey.data(), ez.data(), r.data(), slope.data(), offset.data());
     if (tail == 0)
         return;
     // The last pairs go through the same block code, padded with particle 0 and its image across a (distance |a| > 0).
@@ -127,6 +128,6 @@ void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const 
     std::copy(i+first, i+count, tailI);
     std::copy(j+first, j+count, tailJ);
     std::copy(image+first, image+count, tailImage);
-    run(1, sweep, particles, tailI, tailJ, tailImage, ex.data()+first, ey.data()+first, ez.data()+first, slope.data()+first,
-        offset.data()+first);
+    run(1, sweep, particles, tailI, tailJ, tailImage, ex.data()+first, ey.data()+first, ez.data()+first, r.data()+first,
+        slope.data()+first, offset.data()+first);
 }

@@ -12,14 +12,45 @@
 namespace OpenMMDPD {
 
 /**
+ * The pair part of the stress tensor gathered by a sweep: sum over pairs of r_ij Delta_ij e_ij (x) e_ij,
+ * with Delta_ij the pair's momentum change (O sweeps) or force (VV) along e_ij split into its
+ * velocity-dependent part slope*u (dissipative) and its noise part (random) (DPDPairFormulas.h).
+ * Symmetric tensors, components xx, yy, zz, xy, xz, yz.
+ */
+struct DPDPairStressSums {
+    double dissipative[6] = {}, random[6] = {};
+    /** Add r (part) e (x) e to `sums`. */
+    static void addPair(double* sums, double r, double part, double ex, double ey, double ez) {
+        double s = r*part;
+        sums[0] += s*ex*ex;
+        sums[1] += s*ey*ey;
+        sums[2] += s*ez*ez;
+        sums[3] += s*ex*ey;
+        sums[4] += s*ex*ez;
+        sums[5] += s*ey*ez;
+    }
+    void add(const DPDPairStressSums& other) {
+        for (int k = 0; k < 6; k++) {
+            dissipative[k] += other.dissipative[k];
+            random[k] += other.random[k];
+        }
+    }
+};
+
+/**
  * What one pair sweep needs besides the pairs: the friction table, the particles' inverse masses,
  * kT, the sub-step length and the key of the sweep's random numbers (R_ij = DPDPairRandom::normal(randomKey, i, j)).
+ * Under Lees-Edwards shear, the shear rate kappa: velocities are peculiar and every pair's relative
+ * velocity gets the streaming difference of leesEdwardsRelativeVelocity (DPDPairFormulas.h).  With
+ * `stress`, the sweep also adds its pair stress sums there (nullptr: no cost).
  */
 struct DPDPairSweep {
     const DPDTypePairTable::Compiled& friction;
     const std::vector<double>& inverseMasses;
     double kT, dt;
     std::uint64_t randomKey;
+    double shearRate = 0.0;
+    DPDPairStressSums* stress = nullptr;
 };
 
 /**

@@ -26,6 +26,21 @@ struct DPDPairUpdate {
 };
 
 /**
+ * The streaming part of a pair's relative velocity under Lees-Edwards shear (Shang 2021 eq. 3.2,
+ * u(y) = kappa y e_x), the one place it is computed.  Velocities are kept peculiar (v - kappa y e_x).
+ * Particle j's image that pairs with i sits at q_j + n_y b (n_y the y image index of the minimum
+ * image, b = (offset, L_y, 0)) and moves with the lab velocity v_j + kappa (y_j + n_y L_y) e_x, so the
+ * lab relative velocity is the peculiar one plus kappa (y_i - y_j - n_y L_y) e_x = kappa Delta y e_x,
+ * Delta y = r e_y the minimum-image y separation.  The image index thus enters through Delta y, which
+ * the pair search decided once (the same image as the positions):
+ *     u = e . (v_i - v_j)_lab = e . (v_i - v_j)_peculiar + kappa r e_x e_y.
+ * It is 0 without shear.  Forces and momentum kicks are the same in both frames.
+ */
+OPENMMDPD_PAIR_FORMULA double leesEdwardsRelativeVelocity(double shearRate, double r, double ex, double ey) {
+    return shearRate*r*ex*ey;
+}
+
+/**
  * The exact solution of m_ij du = -gamma w^2 u dt + sigma w dW over dt (eqs. 2.14-2.16, 2.22), with
  * sigma^2 = 2 gamma kT: u' = u exp(-tau dt) + sqrt(kT/m_ij (1 - exp(-2 tau dt))) R, tau = gamma w^2/m_ij.
  */

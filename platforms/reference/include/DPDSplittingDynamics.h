@@ -1,8 +1,10 @@
 #ifndef OPENMMDPD_DPDSPLITTINGDYNAMICS_H_
 #define OPENMMDPD_DPDSPLITTINGDYNAMICS_H_
 
+#include "DPDLeesEdwardsFlow.h"
 #include "DPDPairEngine.h"
 #include "DPDPairRandom.h"
+#include "DPDStressAccumulator.h"
 #include "openmm/State.h"
 #include "openmm/internal/ContextImpl.h"
 #include "openmmdpd/DPDIntegrator.h"
@@ -29,6 +31,11 @@ class ReferenceCalcDPDForceKernel;
  * The pairs of the O sweep are those the DPDForce kernel's engine found in the force evaluation at the
  * same positions when there is one with a large enough cutoff, and otherwise those of the integrator's
  * own engine.  How pairs are found and swept is the platform's (DPDPairEngine); the composition is here.
+ *
+ * Under Lees-Edwards shear (DPDLeesEdwardsFlow) the velocities are peculiar, A is the exact sheared free
+ * flight, the box offset is moved to the time of each force evaluation (ABOBA t + h/2, S1 and VV t + h)
+ * and the sweeps add the streaming part of each pair's relative velocity.  With stress accumulation the
+ * step adds one sample to DPDStressAccumulator.
  */
 class DPDSplittingDynamics {
 public:
@@ -45,6 +52,8 @@ public:
     void resetTransportStatistics() { transport = DPDIntegrator::TransportStatistics(); }
     /** Restart the pairwise random numbers from `seed` (0: a new seed) at the next step. */
     void setRandomNumberSeed(int seed);
+    DPDIntegrator::StressStatistics getStressStatistics() const { return stress.getStatistics(); }
+    void resetStressStatistics() { stress.reset(); }
 
 
 private:
@@ -58,20 +67,30 @@ private:
     void stepVV(OpenMM::ContextImpl& context, double dt);
 
     /**
-     * q += dt v; returns the index of the first particle whose position became non-finite or that moved
-     * more than half the box, or -1 if every particle is sound.  Virtual sites follow their parents.
+     * q += dt v (sheared: DPDLeesEdwardsFlow::drift); returns the index of the first particle whose
+     * position became non-finite or that moved more than half the box, or -1 if every particle is
+     * sound.  Virtual sites follow their parents.
      */
-    int drift(OpenMM::ContextImpl& context, std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities,
+    int drift(OpenMM::ContextImpl& context, std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities,
               double dt) const;
     /** Apply changes made to the integrator's friction table since the last step (validated here). */
     void applyFrictionTableChanges(OpenMM::ContextImpl& context, const DPDIntegrator& integrator);
     /** Throw, naming the particle, if a position or velocity set from outside is not finite. */
     void checkExternalState(OpenMM::ContextImpl& context) const;
+    /**
+     * Under shear: set the box offset to its value `elapsed` after the step's start (the time of the
+     * positions); at elapsed = h also wrap the positions into the primary cell.
+     */
+    void moveImages(OpenMM::ContextImpl& context, double elapsed);
+    /** The stress sums a sweep should gather into this step, or null when stress is not accumulated. */
+    DPDPairStressSums* pairStressOfStep() { return accumulateStress ? &stepPairStress : nullptr; }
     bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, double dt) const;
     /** Evaluate the Context's forces at its current positions and return the engine holding the pairs at those positions. */
     DPDPairEngine& evaluateForcesAndPairs(OpenMM::ContextImpl& context);
     /** The parameters of the next pair sweep over a sub-step dt (each sweep draws new random numbers). */
-    DPDPairSweep nextSweep(double dt) { return {friction, inverseMasses, kT, dt, random.sweepKey(sweepCounter++)}; }
+    DPDPairSweep nextSweep(double dt, DPDPairStressSums* stressSums = nullptr) {
+        return {friction, inverseMasses, kT, dt, random.sweepKey(sweepCounter++), leesEdwards.getShearRate(), stressSums};
+    }
     /** F(q) and G(q) of the integrator's forcing profile at the given positions; returns F . G. */
     double evaluateForcingFields(const DPDIntegrator& integrator, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     /** R = G . p = sum_i G_i . m_i v_i. */
@@ -104,6 +123,13 @@ private:
     std::string fieldsProfileType;
     double forcingDotResponse = 0.0;
     DPDIntegrator::TransportStatistics transport;
+
+    // Lees-Edwards shear and the stress tensor.
+    DPDLeesEdwardsFlow leesEdwards;
+    double largestCutoff = 0.0; // of the dissipative pairs and of every force of the System
+    bool accumulateStress = false;
+    DPDStressAccumulator stress;
+    DPDPairStressSums stepPairStress;
 
     // S1 and VV start a step with the force (and for S1 the pairs) of the previous step's end.
     std::vector<OpenMM::Vec3> forceAtCurrentPositions;

@@ -26,6 +26,8 @@ public:
     DPDIntegrator::TransportStatistics getTransportStatistics() const override { return dynamics->getTransportStatistics(); }
     void resetTransportStatistics() override { dynamics->resetTransportStatistics(); }
     void setRandomNumberSeed(int seed) override { dynamics->setRandomNumberSeed(seed); }
+    DPDIntegrator::StressStatistics getStressStatistics() const override { return dynamics->getStressStatistics(); }
+    void resetStressStatistics() override { dynamics->resetStressStatistics(); }
 
 private:
     DPDPairEngineFactory makeEngine;

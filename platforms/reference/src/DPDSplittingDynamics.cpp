@@ -5,6 +5,9 @@
 #include "openmm/reference/ReferencePlatform.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include "openmmdpd/internal/DPDForceImpl.h"
+#include "openmmdpd/DPDForce.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/NonbondedForce.h"
 #include <algorithm>
 #include <cmath>
 #include <istream>
@@ -81,6 +84,18 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
     Vec3 box[3];
     system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
+    largestCutoff = friction.maxCutoff;
+    for (int k = 0; k < system.getNumForces(); k++) {
+        const OpenMM::Force& force = system.getForce(k);
+        if (auto* dpd = dynamic_cast<const DPDForce*>(&force))
+            largestCutoff = std::max(largestCutoff, dpd->getTable().compile(system.getNumParticles()).maxCutoff);
+        else if (auto* custom = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force))
+            largestCutoff = std::max(largestCutoff, custom->getCutoffDistance());
+        else if (auto* nonbonded = dynamic_cast<const OpenMM::NonbondedForce*>(&force))
+            largestCutoff = std::max(largestCutoff, nonbonded->getCutoffDistance());
+    }
+    if (integrator.getShearRate() != 0.0)
+        DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
 
     // Share the DPDForce's pair list when its search radius covers every dissipative cutoff and it is
     // evaluated with the integration force groups (checked again at every evaluation).
@@ -96,8 +111,14 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
     }
 }
 
-int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>& positions, std::vector<Vec3>& velocities,
                                 double dt) const {
+    if (leesEdwards.isSheared()) {
+        int unsound = leesEdwards.drift(positions, velocities, inverseMasses, dt, maxDisplacementPerDrift);
+        if (!virtualSites.empty())
+            context.computeVirtualSites();
+        return unsound;
+    }
     // A finite but runaway state is caught too: no particle of a sound simulation moves half the
     // box in one step, and past that the minimum image and the pair lists lose their meaning.
     double limit2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
@@ -152,6 +173,18 @@ void DPDSplittingDynamics::applyFrictionTableChanges(OpenMM::ContextImpl& contex
 void DPDSplittingDynamics::setRandomNumberSeed(int seed) {
     random = DPDPairRandom(seed != 0 ? static_cast<std::uint64_t>(seed) : std::random_device()());
     forceAtCurrentPositionsValid = false; // VV's stored random force came from the old stream
+}
+
+void DPDSplittingDynamics::moveImages(OpenMM::ContextImpl& context, double elapsed) {
+    if (!leesEdwards.isSheared())
+        return;
+    ContextArrays state = arrays(context);
+    leesEdwards.moveImages(context, state.box, elapsed);
+    // At the step's end, before its force evaluation, the positions are wrapped into the primary cell
+    // (lattice shifts only): the pairs are then found from the positions the Context keeps, and a
+    // continuation from a checkpoint finds them bit for bit.
+    if (elapsed == stepSize)
+        DPDLeesEdwardsFlow::wrapIntoPrimaryCell(state.positions, state.box);
 }
 
 bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt) const {
@@ -226,6 +259,7 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     bool nemd = integrator.getForcingMode() == DPDIntegrator::NEMD;
     if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.19
         throwNonFinite(context, "positions", particle);
+    moveImages(context, 0.5*dt);                                                // Lees-Edwards offset at t + h/2 (h/2 < h: no wrap)
     DPDPairEngine& pairs = evaluateForcesAndPairs(context);                 // the one force evaluation, at q^{n+1/2}
     double eta = integrator.getForcingStrength();
     if (nemd)
@@ -234,13 +268,14 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     if (nemd)
         applyForcingImpulse(0.5*dt*eta, state.velocities);                      // + eta F dt/2 (NEMD's B, eq. 17)
     if (!friction.allValuesZero)
-        pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
+        pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
     if (!kick(state.velocities, state.forces, 0.5*dt))                          // B(dt/2), eq. 2.23
         throwNonFinite(context, "velocities");
     if (nemd)
         applyForcingImpulse(0.5*dt*eta, state.velocities);
     if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.24
         throwNonFinite(context, "positions", particle);
+    moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     if (nemd) {
         evaluateForcingFields(integrator, state.positions, state.box);          // G(q^{n+1})
         transport.lastResponse = responseOf(state.velocities);                  // R at (q^{n+1}, p^{n+1}), for eq. 9
@@ -301,10 +336,11 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
         forceAtCurrentPositions = state.forces;
     }
     if (!friction.allValuesZero)
-        pairsAtCurrentPositions->applyPairwiseBBK(nextSweep(dt), state.velocities); // O(dt), eq. 2.12
+        pairsAtCurrentPositions->applyPairwiseBBK(nextSweep(dt, pairStressOfStep()), state.velocities); // O(dt), eq. 2.12
     kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // B(dt/2), eq. 2.13a
     if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0) // A(dt), eq. 2.13b
         throwNonFinite(context, "positions", particle);
+    moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     evaluateForcesAndPairs(context);                                            // at q^{n+1}, reused next step
     forceAtCurrentPositions = state.forces;
     if (!kick(state.velocities, forceAtCurrentPositions, 0.5*dt))               // B(dt/2), eq. 2.13c
@@ -322,10 +358,11 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
     kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // eq. 2.3a, with the stored forces
     if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0) // eq. 2.3b
         throwNonFinite(context, "positions", particle);
+    moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     DPDPairEngine& pairs = evaluateForcesAndPairs(context);
     forceAtCurrentPositions = state.forces;
-    if (!friction.allValuesZero)
-        pairs.addDissipativeAndRandomForces(nextSweep(dt), state.velocities, forceAtCurrentPositions); // at (q^{n+1}, p^{n+1/2})
+    if (!friction.allValuesZero)                                                // at (q^{n+1}, p^{n+1/2})
+        pairs.addDissipativeAndRandomForces(nextSweep(dt, pairStressOfStep()), state.velocities, forceAtCurrentPositions);
     if (!kick(state.velocities, forceAtCurrentPositions, 0.5*dt))               // eq. 2.3c
         throwNonFinite(context, "velocities");
 }
@@ -352,6 +389,15 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     keepStoredForceThroughStateChanges = false;
     if (integrator.getForcingMode() != DPDIntegrator::NoForcing && scheme != DPDIntegrator::ABOBA)
         throw OpenMM::OpenMMException("DPDIntegrator: NEMD and Norton dynamics are implemented with the ABOBA scheme only");
+    leesEdwards.setShearRate(integrator.getShearRate());
+    if (leesEdwards.isSheared()) {
+        if (integrator.getForcingMode() != DPDIntegrator::NoForcing)
+            throw OpenMM::OpenMMException("DPDIntegrator: Lees-Edwards shear cannot be combined with NEMD or Norton forcing");
+        DPDLeesEdwardsFlow::checkBox(context.getSystem(), state.box, largestCutoff, leesEdwards.getShearRate());
+        leesEdwards.beginStep(state.box);
+    }
+    accumulateStress = integrator.getStressAccumulation();
+    stepPairStress = DPDPairStressSums();
     if (scheme == DPDIntegrator::ABOBA && integrator.getForcingMode() == DPDIntegrator::Norton)
         stepABOBANorton(context, stepSize, integrator);
     else if (scheme == DPDIntegrator::ABOBA)
@@ -360,6 +406,11 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
         stepS1(context, stepSize);
     else
         stepVV(context, stepSize);
+    if (accumulateStress) {
+        stress.addPairSums(stepPairStress, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize, state.box);
+        stress.addKineticAndConservative(context.getSystem(), state.positions, state.velocities, masses, state.box);
+        stress.endSample();
+    }
     if (scheme != DPDIntegrator::ABOBA) {
         forceAtCurrentPositionsValid = true;
         for (int k = 0; k < 3; k++)
@@ -398,6 +449,7 @@ void DPDSplittingDynamics::createCheckpoint(std::ostream& stream) const {
     // Only VV's stored force depends on more than the positions (the velocities and random numbers
     // of the previous step's end); S1 recomputes its stored force from the positions, bit for bit.
     stream.write(reinterpret_cast<const char*>(&transport), sizeof(transport));
+    stream.write(reinterpret_cast<const char*>(&stress.getStatistics()), sizeof(DPDIntegrator::StressStatistics));
     bool storeForce = scheme == DPDIntegrator::VV && forceAtCurrentPositionsValid;
     stream.write(reinterpret_cast<const char*>(&storeForce), sizeof(storeForce));
     if (storeForce) {
@@ -412,12 +464,14 @@ void DPDSplittingDynamics::loadCheckpoint(std::istream& stream) {
     std::uint64_t seed;
     unsigned long long counter;
     DPDIntegrator::TransportStatistics statistics;
+    DPDIntegrator::StressStatistics stressStatistics;
     unsigned char storedForce = 0; // a byte, not a bool: any byte value may arrive here
     Vec3 storedBox[3];
     std::vector<Vec3> storedForces;
     stream.read(reinterpret_cast<char*>(&seed), sizeof(seed));
     stream.read(reinterpret_cast<char*>(&counter), sizeof(counter));
     stream.read(reinterpret_cast<char*>(&statistics), sizeof(statistics));
+    stream.read(reinterpret_cast<char*>(&stressStatistics), sizeof(stressStatistics));
     stream.read(reinterpret_cast<char*>(&storedForce), sizeof(storedForce));
     if (stream && storedForce) {
         stream.read(reinterpret_cast<char*>(storedBox), sizeof(storedBox));
@@ -430,6 +484,7 @@ void DPDSplittingDynamics::loadCheckpoint(std::istream& stream) {
     random = DPDPairRandom(seed);
     sweepCounter = counter;
     transport = statistics;
+    stress.getStatistics() = stressStatistics;
     pairsAtCurrentPositions = nullptr;
     forceAtCurrentPositionsValid = storedForce != 0;
     if (storedForce) {

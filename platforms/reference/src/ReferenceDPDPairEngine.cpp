@@ -59,17 +59,35 @@ void ReferenceDPDPairEngine::sweepDissipativePairs(const DPDPairSweep& sweep, Vi
     }
 }
 
+namespace {
+
+/** The pair's relative velocity along e_ij, lab frame under Lees-Edwards shear (DPDPairFormulas.h). */
+double relativeVelocity(const DPDPairSweep& sweep, const DPDPair& pair, const std::vector<Vec3>& velocities) {
+    return pair.unit.dot(velocities[pair.i]-velocities[pair.j]) + leesEdwardsRelativeVelocity(sweep.shearRate, pair.r, pair.unit[0], pair.unit[1]);
+}
+
+/** Add the pair's r e (x) e times the two parts of slope u + offset to the sweep's stress sums, if asked. */
+void addPairStress(const DPDPairSweep& sweep, const DPDPair& pair, const DPDPairUpdate& update, double u) {
+    if (sweep.stress == nullptr)
+        return;
+    DPDPairStressSums::addPair(sweep.stress->dissipative, pair.r, update.dissipative(u), pair.unit[0], pair.unit[1], pair.unit[2]);
+    DPDPairStressSums::addPair(sweep.stress->random, pair.r, update.offset, pair.unit[0], pair.unit[1], pair.unit[2]);
+}
+
+} // namespace
+
 double ReferenceDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<Vec3>& velocities,
                                                               const std::vector<Vec3>* response) {
     double responseOfDissipation = 0.0;
     sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
         DPDPairUpdate update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, sweep.kT, sweep.dt, R);
-        double relativeVelocity = pair.unit.dot(velocities[pair.i]-velocities[pair.j]);
-        Vec3 deltaP = pair.unit*update.momentumChange(relativeVelocity); // p_i += Delta p, p_j -= Delta p (eq. 2.17)
+        double u = relativeVelocity(sweep, pair, velocities);
+        Vec3 deltaP = pair.unit*update.momentumChange(u); // p_i += Delta p, p_j -= Delta p (eq. 2.17)
         velocities[pair.i] += deltaP*sweep.inverseMasses[pair.i];
         velocities[pair.j] -= deltaP*sweep.inverseMasses[pair.j];
+        addPairStress(sweep, pair, update, u);
         if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
-            responseOfDissipation += update.dissipative(relativeVelocity)*pair.unit.dot((*response)[pair.i]-(*response)[pair.j]);
+            responseOfDissipation += update.dissipative(u)*pair.unit.dot((*response)[pair.i]-(*response)[pair.j]);
     });
     return responseOfDissipation;
 }
@@ -77,9 +95,11 @@ double ReferenceDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep
 void ReferenceDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<Vec3>& velocities) {
     sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
         DPDPairUpdate update = bbkUpdate(gamma, w, invReducedMass, sweep.kT, sweep.dt, R);
-        Vec3 deltaP = pair.unit*update.momentumChange(pair.unit.dot(velocities[pair.i]-velocities[pair.j]));
+        double u = relativeVelocity(sweep, pair, velocities);
+        Vec3 deltaP = pair.unit*update.momentumChange(u); // eq. 2.12
         velocities[pair.i] += deltaP*sweep.inverseMasses[pair.i];
         velocities[pair.j] -= deltaP*sweep.inverseMasses[pair.j];
+        addPairStress(sweep, pair, update, u);
     });
 }
 
@@ -87,8 +107,10 @@ void ReferenceDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& s
                                                            std::vector<Vec3>& forces) {
     sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
         DPDPairUpdate force = dissipativeAndRandomForce(gamma, w, sweep.kT, sweep.dt, R);
-        Vec3 f = pair.unit*force.momentumChange(pair.unit.dot(velocities[pair.i]-velocities[pair.j]));
+        double u = relativeVelocity(sweep, pair, velocities);
+        Vec3 f = pair.unit*force.momentumChange(u); // eqs. 2.2b, 2.2c
         forces[pair.i] += f;
         forces[pair.j] -= f;
+        addPairStress(sweep, pair, force, u);
     });
 }
