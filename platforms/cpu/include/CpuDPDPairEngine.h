@@ -95,6 +95,7 @@ private:
     std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order
     std::vector<OpenMM::Vec3> sortedForces, sortedVelocities, sortedResponse;
     std::vector<int> sortedRepulsionType, sortedFrictionType;
+    std::vector<double> inverseRepulsionCutoff;       // 1/r_c per type pair of the DPDForce being evaluated
     std::vector<double> sortedInverseMass;
 };
 

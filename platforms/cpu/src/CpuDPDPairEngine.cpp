@@ -112,14 +112,17 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
     const int* __restrict type = sortedRepulsionType.data();
     const double* __restrict strengthTable = repulsion->value.data();
     const double* __restrict cutoffTable = repulsion->cutoff.data();
+    const double* __restrict inverseCutoffTable = inverseRepulsionCutoff.data();
     int numTypes = repulsion->numTypes;
     double energy = 0.0;
+#pragma omp simd reduction(+:energy)
     for (std::size_t n = 0; n < numPairs; n++) {
-        double r = std::sqrt(ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n]);
+        double r2 = ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n];
+        double invR = 1.0/std::sqrt(r2);
         int typePair = type[pi[n]]*numTypes+type[pj[n]];
-        double cutoff = cutoffTable[typePair];
-        double strength = r < cutoff ? strengthTable[typePair] : 0.0, w = 1.0-r/cutoff;
-        magnitude[n] = strength*w/r; // times d gives a w e
+        double cutoff = cutoffTable[typePair], inverseCutoff = inverseCutoffTable[typePair];
+        double strength = r2 < cutoff*cutoff ? strengthTable[typePair] : 0.0, w = 1.0-r2*invR*inverseCutoff;
+        magnitude[n] = strength*(invR-inverseCutoff); // a w / r: times d gives a w e
         energy += 0.5*strength*cutoff*w*w;
     }
     for (std::size_t n = 0; n < numPairs; n++) {
@@ -142,6 +145,9 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
     if (repulsion != nullptr) {
         sortedRepulsionType.resize(numParticles);
         sortedForces.resize(numParticles);
+        inverseRepulsionCutoff.resize(repulsion->cutoff.size());
+        for (std::size_t k = 0; k < inverseRepulsionCutoff.size(); k++)
+            inverseRepulsionCutoff[k] = 1.0/repulsion->cutoff[k];
     }
     std::vector<int> nonFinite(numThreads, -1);
     onThreads([&](int thread) {
