@@ -16,7 +16,7 @@ import numpy as np
 import openmm as mm
 
 import openmmdpd as dpd
-from openmmdpd.study.sweep import median_seconds_per_step
+from openmmdpd.study.sweep import interleaved_seconds_per_step
 
 FRICTION = 4.5
 STEP_SIZE = 0.05
@@ -61,33 +61,37 @@ def sample_scheme(scheme: str, steps: int, threads: int) -> Dict[str, float]:
     kinetic_mean, kinetic_error = block_mean_and_error(np.array(kinetic))
     # k_B T_conf in kJ/mol equals T_conf / REDUCED_TEMPERATURE, i.e. 1 at the target.
     conf_mean, conf_error = ratio_mean_and_error(np.array(gradient_squared), np.array(laplacian))
-    timing = median_seconds_per_step(integrator, 200, warmup=20)
-    return dict(kinetic=kinetic_mean, kinetic_error=kinetic_error, conf=conf_mean, conf_error=conf_error, seconds=timing)
+    return dict(kinetic=kinetic_mean, kinetic_error=kinetic_error, conf=conf_mean, conf_error=conf_error)
 
 
-def peer_timings(threads: int) -> Dict[str, float]:
-    """OpenMM's own integrators on the same scene, the soft force as a CustomNonbondedForce."""
+def interleaved_timings(threads: int) -> Dict[str, float]:
+    """Time per step of our three schemes and of OpenMM's own integrators on the same scene (the soft
+    force as a CustomNonbondedForce for the peers), all Contexts alive and timed in turn."""
     system, positions = dpd.soft_fluid(num_particles=500, density=3.0, seed=SEED)
-    system.removeForce(0)
+    custom = mm.XmlSerializer.deserialize(mm.XmlSerializer.serialize(system))
+    custom.removeForce(0)
     soft = mm.CustomNonbondedForce("0.5*a*rc*(1-r/rc)^2; a=25; rc=1")
     soft.setNonbondedMethod(mm.CustomNonbondedForce.CutoffPeriodic)
     soft.setCutoffDistance(1.0)
-    for _ in range(system.getNumParticles()):
+    for _ in range(custom.getNumParticles()):
         soft.addParticle([])
-    system.addForce(soft)
-    peers: Dict[str, Callable[[], mm.Integrator]] = {
-        "OpenMM VerletIntegrator + CustomNonbondedForce": lambda: mm.VerletIntegrator(STEP_SIZE),
-        "OpenMM DPDIntegrator + CustomNonbondedForce": lambda: mm.DPDIntegrator(dpd.REDUCED_TEMPERATURE, FRICTION, 1.0, STEP_SIZE),
-        "openmmdpd ABOBA + CustomNonbondedForce": lambda: dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, FRICTION, 1.0, STEP_SIZE, "ABOBA"),
-    }
-    result = {}
-    for name, create in peers.items():
+    custom.addForce(soft)
+    makers: Dict[str, Tuple[mm.System, Callable[[], mm.Integrator]]] = {
+        f"openmmdpd {scheme} + DPDForce": (system, lambda scheme=scheme: dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, FRICTION, 1.0, STEP_SIZE, scheme))
+        for scheme in dpd.SCHEMES}
+    makers.update({
+        "OpenMM VerletIntegrator + CustomNonbondedForce": (custom, lambda: mm.VerletIntegrator(STEP_SIZE)),
+        "OpenMM DPDIntegrator + CustomNonbondedForce": (custom, lambda: mm.DPDIntegrator(dpd.REDUCED_TEMPERATURE, FRICTION, 1.0, STEP_SIZE)),
+        "openmmdpd ABOBA + CustomNonbondedForce": (custom, lambda: dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, FRICTION, 1.0, STEP_SIZE, "ABOBA")),
+    })
+    contexts, integrators = [], {}
+    for name, (base, create) in makers.items():
         integrator = create()
-        clone = mm.XmlSerializer.deserialize(mm.XmlSerializer.serialize(system))
-        context = make_context(integrator, threads, clone, positions)  # kept alive while timing
-        result[name] = median_seconds_per_step(integrator, 200, warmup=20)
-        del context
-    return result
+        clone = mm.XmlSerializer.deserialize(mm.XmlSerializer.serialize(base))
+        contexts.append(make_context(integrator, threads, clone, positions))  # kept alive while timing
+        integrator.step(20)
+        integrators[name] = integrator
+    return interleaved_seconds_per_step(integrators, 200, repeats=5)
 
 
 def main() -> None:
@@ -101,18 +105,15 @@ def main() -> None:
           "configurational temperature (eq. 3.1) at q^(n+1)\n")
     print(f"| scheme | kinetic kT | configurational kT | rel. error of conf. kT | ms/step |")
     print(f"|---|---|---|---|---|")
-    times = {}
+    times = interleaved_timings(args.threads)
     for scheme in dpd.SCHEMES:
         r = sample_scheme(scheme, args.steps, args.threads)
-        times[scheme] = r["seconds"]
         print(f"| {scheme} | {r['kinetic']:.4f} ± {r['kinetic_error']:.4f} | {r['conf']:.4f} ± {r['conf_error']:.4f} "
-              f"| {100 * (r['conf'] - 1):+.2f}% | {1000 * r['seconds']:.3f} |", flush=True)
-    print("\nTime per step on the same scene (median of 3 x 200 steps):\n")
+              f"| {100 * (r['conf'] - 1):+.2f}% | {1000 * times[f'openmmdpd {scheme} + DPDForce']:.3f} |", flush=True)
+    print("\nTime per step on the same scene (all integrators timed in turn, A B C ..., median of 5 x 200 steps):\n")
     print("| integrator and force | ms/step |")
     print("|---|---|")
-    for scheme in dpd.SCHEMES:
-        print(f"| openmmdpd {scheme} + DPDForce | {1000 * times[scheme]:.3f} |")
-    for name, seconds in peer_timings(args.threads).items():
+    for name, seconds in times.items():
         print(f"| {name} | {1000 * seconds:.3f} |", flush=True)
 
 

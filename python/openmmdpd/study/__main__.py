@@ -19,18 +19,18 @@ from tqdm import tqdm
 from ..resumable_runs import add_cluster_arguments, dask_client, run_resumable
 from .report import markdown_table, summarize, write_report
 from .scene import Scene, load_scene
-from .sweep import RunResult, sweep, time_per_step
+from .sweep import RunResult, scene_timings, sweep
 
 
 def saved_timings(scene: Scene, folder: Path) -> Dict[str, float]:
-    """Time per step of every method of the scene: measured here, serially (the machine otherwise
-    idle), or read from folder/timings/ when an earlier invocation measured the same scene."""
+    """Time per step of every method of the scene: measured here, the methods interleaved (A B C A B C
+    ...), or read from folder/timings/ when an earlier invocation measured the same scene."""
     path = folder / "timings" / f"{scene.name}.json"
     if path.exists():
         saved = json.loads(path.read_text())
         if saved.get("scene") == repr(scene):
             return saved["seconds_per_step"]
-    timings = {method: time_per_step(scene, method) for method in scene.methods}
+    timings = scene_timings(scene, scene.methods)
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps({"scene": repr(scene), "seconds_per_step": timings}))
     return timings

@@ -189,7 +189,7 @@ def write_report(folder: Path, scenes: List[Scene], summaries: List[Dict], budge
              "Configurational temperature (Shang 2021 eq. 3.1) measured at the positions the Context holds after a "
              "step (q^{n+1}), never at ABOBA's half-step positions. Critical step size: 10% relative error, "
              "interpolated in log-log between bracketing step sizes (or the last stable step size when a method "
-             "became unstable first). Time per step: wall time of 300 steps with no observable, median of 3, "
+             "became unstable first). Time per step: wall time of 300 steps with no observable, the methods timed in turn (A B C A B C ...), median of 5, "
              "one thread, measured before the sweeps. Scaled efficiency = (critical step size / time per step) "
              "relative to the reference method. Error bars: standard error over independent runs.", ""]
     for scene, summary in zip(scenes, summaries):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import List, Optional
+from typing import Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 import openmm as mm
@@ -85,21 +85,9 @@ def sweep(scene: Scene, method: str, run: int, budget: Budget, seed: int, error_
     return results
 
 
-def median_seconds_per_step(integrator: mm.Integrator, steps: int = 300, repeats: int = 3, warmup: int = 50) -> float:
-    """Median over repeats of the wall time per step (s) of a bound integrator, with no observable."""
-    integrator.step(warmup)
-    samples = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        integrator.step(steps)
-        samples.append((time.perf_counter() - start) / steps)
-    return float(np.median(samples))
-
-
-def time_per_step(scene: Scene, method: str, steps: int = 300, repeats: int = 3, threads: int = 1) -> float:
-    """Wall time per step (s, the machine otherwise idle) with no observable: median of repeats, at the
-    scene's timing step size, or at a smaller one for a method unstable there (the cost of a
-    step does not depend on its size)."""
+def _timing_context(scene: Scene, method: str, threads: int, warmup: int) -> Tuple[mm.Context, mm.Integrator]:
+    """A Context of the method warmed up at the scene's timing step size, or at a smaller one for a
+    method unstable there (the cost of a step does not depend on its size)."""
     for step_size in (scene.timing_stepsize, scene.stepsizes[0], scene.stepsizes[0] / 4):
         system, positions, _ = scene.build(method, seed=1)
         integrator = scene.integrator(method, step_size, seed=1)
@@ -107,7 +95,28 @@ def time_per_step(scene: Scene, method: str, steps: int = 300, repeats: int = 3,
         context.setPositions(positions)
         context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 1)
         try:
-            return median_seconds_per_step(integrator, steps, repeats)
+            integrator.step(warmup)
+            return context, integrator
         except mm.OpenMMException:
             continue
     raise RuntimeError(f"{method} is unstable at every timing step size of scene {scene.name}")
+
+
+def interleaved_seconds_per_step(integrators: Mapping[str, mm.Integrator], steps: int = 300, repeats: int = 5) -> Dict[str, float]:
+    """Wall time per step (s) of bound integrators with no observable, timed in turn (A B C A B C ...)
+    so that a change in the machine's load falls on all of them alike: the median over the repeats.
+    The caller keeps their Contexts alive."""
+    samples: Dict[str, List[float]] = {name: [] for name in integrators}
+    for _ in range(repeats):
+        for name, integrator in integrators.items():
+            start = time.perf_counter()
+            integrator.step(steps)
+            samples[name].append((time.perf_counter() - start) / steps)
+    return {name: float(np.median(values)) for name, values in samples.items()}
+
+
+def scene_timings(scene: Scene, methods: Sequence[str], steps: int = 300, repeats: int = 5, threads: int = 1,
+                  warmup: int = 50) -> Dict[str, float]:
+    """Time per step of each method of a scene, the methods interleaved (interleaved_seconds_per_step)."""
+    contexts = {method: _timing_context(scene, method, threads, warmup) for method in methods}
+    return interleaved_seconds_per_step({method: integrator for method, (_, integrator) in contexts.items()}, steps, repeats)
