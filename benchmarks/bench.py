@@ -100,13 +100,19 @@ def main() -> None:
     parser.add_argument("--seconds", type=float, default=1.0, help="stepping time per run (s)")
     parser.add_argument("--openmm-dpd-max", type=int, default=32000, help="largest N for OpenMM's DPDIntegrator")
     parser.add_argument("--no-lammps", action="store_true")
+    parser.add_argument("--methods", nargs="+", default=None,
+                        help="only these methods (default: all); e.g. --methods ABOBA VV S1 to time another build of openmmdpd "
+                             "put first on PYTHONPATH")
     parser.add_argument("--out", default=None, help="also write the tables (markdown) and the raw runs (JSON beside it)")
     args = parser.parse_args()
 
-    with_lammps, why = (False, "--no-lammps") if args.no_lammps else lammps_available()
+    wants_lammps = not args.no_lammps and (args.methods is None or any(m in LAMMPS for m in args.methods))
+    with_lammps, why = lammps_available() if wants_lammps else (False, "not asked for")
     if not with_lammps:
         print(f"LAMMPS skipped: {why}", flush=True)
     configs = configurations(args.sizes, args.threads, with_lammps, args.openmm_dpd_max)
+    if args.methods:
+        configs = [c for c in configs if c[0] in args.methods]
     samples: Dict[Tuple[str, int, int], List[dict]] = {c: [] for c in configs}
     loads = []
     started = time.time()
