@@ -17,7 +17,9 @@ namespace OpenMMDPD {
  * the pairs of a cell and its half stencil of 13 neighbours then share no particle with those of
  * another cell of the same colour, and the cells of one colour can be swept in parallel.  Per axis
  * the colour is k mod 3, with the 1 or 2 leftover cells of an axis whose count is not a multiple of 3
- * getting colours of their own (and every cell its own colour on an axis of 1 or 2 cells).
+ * getting colours of their own (and every cell its own colour on an axis of 1 or 2 cells).  A large
+ * box is swept in slabs of z layers, one after another, each with its own colours (layOut), so that
+ * the data a colour touches stays within a slab.
  */
 class CpuDPDCellGrid {
 public:

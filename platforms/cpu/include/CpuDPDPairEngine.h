@@ -76,6 +76,12 @@ private:
      */
     void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                       const CellTask& apply, const ParticleRangeTask& scatter);
+    /**
+     * The successive velocity sweep of O (exact OU) and S1 (BBK): Delta p = slope u + offset per pair.
+     * With `response` (Norton), also returns G . Delta p^D summed cell by cell in sweep order.
+     */
+    double sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, std::vector<OpenMM::Vec3>& velocities,
+                           const std::vector<OpenMM::Vec3>* response);
     /** The stress sums of one cell, cleared, when the sweep gathers stress; else null. */
     DPDPairStressSums* cellStressOf(const DPDPairSweep& sweep, int cell);
     static void addPairStress(DPDPairStressSums& sums, double r, const OpenMM::Vec3& e, double dissipative, double random);

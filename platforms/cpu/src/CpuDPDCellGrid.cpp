@@ -54,15 +54,25 @@ void CpuDPDCellGrid::layOut(const Vec3* box, double radius) {
         imageShiftZ[image] = shift[2];
     }
 
-    // Sweep order: a counting sort of the cells by colour, by index within a colour.
-    int colors[3] = {axisColors(cellsPerAxis[0]), axisColors(cellsPerAxis[1]), axisColors(cellsPerAxis[2])};
-    int numColors = colors[0]*colors[1]*colors[2];
+    // Sweep order: slabs of whole z layers one after another (so a colour's cells, and the data they
+    // touch, stay within one slab: a large box is swept with the cache's help), within a slab colour
+    // by colour, within a colour by cell index.  A slab is a multiple of 3 layers holding at least
+    // cellsPerSlab cells; within a slab of several, z is coloured z mod 3 without wrapping (slabs run
+    // one after another, so cells of different slabs never need to differ in colour).  A counting sort
+    // of the cells by group (slab, colour).
+    const int cellsPerSlab = 4096;
+    int layers = cellsPerAxis[2], layerCells = cellsPerAxis[0]*cellsPerAxis[1];
+    int thickness = 3*std::max(1, (cellsPerSlab+3*layerCells-1)/(3*layerCells));
+    int numSlabs = thickness >= layers ? 1 : (layers+thickness-1)/thickness;
+    int colors[3] = {axisColors(cellsPerAxis[0]), axisColors(cellsPerAxis[1]), numSlabs == 1 ? axisColors(layers) : 3};
+    int colorsPerSlab = colors[0]*colors[1]*colors[2], numColors = numSlabs*colorsPerSlab;
     std::vector<int> colorOfCell(numCells);
     colorStart.assign(numColors+1, 0);
-    for (int z = 0, cell = 0; z < cellsPerAxis[2]; z++)
+    for (int z = 0, cell = 0; z < layers; z++)
         for (int y = 0; y < cellsPerAxis[1]; y++)
             for (int x = 0; x < cellsPerAxis[0]; x++, cell++) {
-                colorOfCell[cell] = (axisColor(z, cellsPerAxis[2])*colors[1]+axisColor(y, cellsPerAxis[1]))*colors[0]+axisColor(x, cellsPerAxis[0]);
+                int slab = numSlabs == 1 ? 0 : z/thickness, zColor = numSlabs == 1 ? axisColor(z, layers) : (z-slab*thickness)%3;
+                colorOfCell[cell] = slab*colorsPerSlab+(zColor*colors[1]+axisColor(y, cellsPerAxis[1]))*colors[0]+axisColor(x, cellsPerAxis[0]);
                 colorStart[colorOfCell[cell]+1]++;
             }
     for (int color = 0; color < numColors; color++)

@@ -251,8 +251,8 @@ void CpuDPDPairEngine::sumCellStress(const DPDPairSweep& sweep) {
             sweep.stress->add(cellStress[cell]);
 }
 
-double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<Vec3>& velocities,
-                                                        const std::vector<Vec3>* response) {
+double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, std::vector<Vec3>& velocities,
+                                         const std::vector<Vec3>* response) {
     const std::vector<int>& original = grid.sortedToOriginal;
     sortedVelocities.resize(original.size());
     if (response != nullptr)
@@ -272,7 +272,7 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
             double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
-            double deltaP = block.slope[n]*u + block.offset[n]; // eqs. 2.14-2.17 as an affine map of u
+            double deltaP = block.slope[n]*u + block.offset[n]; // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
             sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
             if (stress != nullptr)
@@ -286,7 +286,7 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
         for (int s = begin; s < end; s++)
             velocities[original[s]] = sortedVelocities[s];
     };
-    sweepByColor(sweep, CpuDPDPairUpdateBlock::OrnsteinUhlenbeck, gather, apply, scatter);
+    sweepByColor(sweep, kind, gather, apply, scatter);
     sumCellStress(sweep);
     double responseOfDissipation = 0.0;
     if (response != nullptr)
@@ -295,33 +295,13 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
     return responseOfDissipation;
 }
 
+double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<Vec3>& velocities,
+                                                        const std::vector<Vec3>* response) {
+    return sweepVelocities(sweep, CpuDPDPairUpdateBlock::OrnsteinUhlenbeck, velocities, response);
+}
+
 void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<Vec3>& velocities) {
-    const std::vector<int>& original = grid.sortedToOriginal;
-    sortedVelocities.resize(original.size());
-    auto gather = [&](int begin, int end) {
-        for (int s = begin; s < end; s++)
-            sortedVelocities[s] = velocities[original[s]];
-    };
-    auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
-        const PairBuffer& pairs = buffers[thread];
-        DPDPairStressSums* stress = cellStressOf(sweep, cell);
-        for (int k = first; k < last; k++) {
-            int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
-            Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
-            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
-            double deltaP = block.slope[n]*u + block.offset[n]; // eq. 2.12
-            sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
-            sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
-            if (stress != nullptr)
-                addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
-        }
-    };
-    auto scatter = [&](int begin, int end) {
-        for (int s = begin; s < end; s++)
-            velocities[original[s]] = sortedVelocities[s];
-    };
-    sweepByColor(sweep, CpuDPDPairUpdateBlock::BBK, gather, apply, scatter);
-    sumCellStress(sweep);
+    sweepVelocities(sweep, CpuDPDPairUpdateBlock::BBK, velocities, nullptr);
 }
 
 void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,
