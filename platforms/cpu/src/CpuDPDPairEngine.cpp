@@ -3,6 +3,7 @@
 #include "DPDPairFormulas.h"
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
@@ -264,23 +265,34 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             for (int s = begin; s < end; s++)
                 sortedResponse[s] = (*response)[original[s]];
     };
-    auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
+    // The plain sweep (no shear, stress or Norton) is the hot loop: compiled on its own, without them.
+    auto sweepCell = [&](auto plain, int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
+        constexpr bool extras = !decltype(plain)::value;
         const PairBuffer& pairs = buffers[thread];
-        DPDPairStressSums* stress = cellStressOf(sweep, cell);
+        DPDPairStressSums* stress = extras ? cellStressOf(sweep, cell) : nullptr;
         double responseOfDissipation = 0.0;
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
-            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
+            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]);
+            if (extras)
+                u += leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
             double deltaP = block.slope[n]*u + block.offset[n]; // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
             sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
             sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
-            if (stress != nullptr)
+            if (extras && stress != nullptr)
                 addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
-            if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
+            if (extras && response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
                 responseOfDissipation += block.slope[n]*u*e.dot(sortedResponse[a]-sortedResponse[b]);
         }
         cellSum[cell] = responseOfDissipation;
+    };
+    bool plain = sweep.shearRate == 0.0 && sweep.stress == nullptr && response == nullptr;
+    auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
+        if (plain)
+            sweepCell(std::true_type(), thread, cell, first, last, block, blockStart);
+        else
+            sweepCell(std::false_type(), thread, cell, first, last, block, blockStart);
     };
     auto scatter = [&](int begin, int end) {
         for (int s = begin; s < end; s++)
