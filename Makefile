@@ -60,7 +60,7 @@ test-sanitize: deps
 
 SCENES = examples/scenes/soft_fluid_gamma4.5.toml examples/scenes/soft_fluid_gamma40.5.toml \
          examples/scenes/soft_fluid_gamma200.toml examples/scenes/soft_fluid_gamma450.toml \
-         examples/scenes/lj_fluid_gamma4.5.toml
+         examples/scenes/lj_fluid_gamma4.5.toml examples/scenes/sheared_soft_fluid_gamma450.toml
 BUDGET ?= reduced
 REPORT ?= demo-output
 

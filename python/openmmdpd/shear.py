@@ -93,19 +93,25 @@ def sample_shear(context: openmm.Context, integrator, num_chunks: int, steps_per
         previous = current
         for p in PARTS:
             stress[p].append(chunk.mean(p))
-        state = context.getState(getPositions=True, getVelocities=True)
-        box = state.getPeriodicBoxVectors(asNumpy=True).value_in_unit(openmm.unit.nanometer)
-        height = float(box[1][1])
-        q = state.getPositions(asNumpy=True).value_in_unit(openmm.unit.nanometer)
-        v = state.getVelocities(asNumpy=True).value_in_unit(openmm.unit.nanometer / openmm.unit.picosecond)
-        y = np.mod(q[:, 1], height)
-        lab_vx = v[:, 0] + kappa * y
-        bins = np.minimum((y / height * num_bins).astype(int), num_bins - 1)
-        counts = np.bincount(bins, minlength=num_bins)
-        sums = np.bincount(bins, weights=lab_vx, minlength=num_bins)
-        profile.append(np.where(counts > 0, sums / np.maximum(counts, 1), np.nan))
+        row, height = streaming_profile(context, kappa, num_bins)
+        profile.append(row)
     centres = (np.arange(num_bins) + 0.5) * height / num_bins
     return ShearSamples(kappa, {p: np.array(stress[p]) for p in PARTS}, np.array(profile), centres, height)
+
+
+def streaming_profile(context: openmm.Context, shear_rate: float, num_bins: int) -> Tuple[np.ndarray, float]:
+    """The lab-frame <v_x> in ``num_bins`` equal bins of y over the box height (NaN for an empty bin), from
+    the Context's current state, and the box height L_y (nm)."""
+    state = context.getState(getPositions=True, getVelocities=True)
+    height = float(state.getPeriodicBoxVectors(asNumpy=True).value_in_unit(openmm.unit.nanometer)[1][1])
+    q = state.getPositions(asNumpy=True).value_in_unit(openmm.unit.nanometer)
+    v = state.getVelocities(asNumpy=True).value_in_unit(openmm.unit.nanometer / openmm.unit.picosecond)
+    y = np.mod(q[:, 1], height)
+    lab_vx = v[:, 0] + shear_rate * y
+    bins = np.minimum((y / height * num_bins).astype(int), num_bins - 1)
+    counts = np.bincount(bins, minlength=num_bins)
+    sums = np.bincount(bins, weights=lab_vx, minlength=num_bins)
+    return np.where(counts > 0, sums / np.maximum(counts, 1), np.nan), height
 
 
 def shear_viscosity(stress: Union[ShearSamples, StressStatistics], shear_rate: float) -> Tuple[float, float]:

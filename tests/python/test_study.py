@@ -51,7 +51,7 @@ def test_scene_files_load_and_build(path):
     scene = load_scene(path)
     for budget in scene.budgets.values():
         grid = scene.stepsize_grid(budget)
-        assert grid[0] == scene.stepsizes[0] and grid[-1] <= scene.stepsizes[1] * (1 + 1e-12)
+        assert grid[0] == (budget.first_stepsize or scene.stepsizes[0]) and grid[-1] <= scene.stepsizes[1] * (1 + 1e-12)
     assert {"reduced", "full"} <= set(scene.budgets)
     system, positions, integrator = scene.build(scene.methods[0], seed=1)
     assert system.getNumParticles() == int(scene.system["num_particles"])

@@ -17,7 +17,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .scene import METHOD_DESCRIPTIONS, Scene  # noqa: E402
-from .statistics import configurational_relative_error, critical_step_size  # noqa: E402
+from .shear_report import add_viscosity_errors, shear_point, shear_section  # noqa: E402
+from .statistics import configurational_relative_error, critical_step_size_range  # noqa: E402
 from .sweep import RunResult  # noqa: E402
 
 
@@ -46,15 +47,19 @@ def summarize(scene: Scene, results: List[RunResult], timings: Dict[str, float])
             if runs[0].rdf_histogram is not None:
                 point["rdf_histogram"] = np.sum([r.rdf_histogram for r in runs], axis=0).tolist()
                 point["rdf_samples"] = int(sum(r.rdf_samples for r in runs))
+            if runs[0].shear_stress:
+                point.update(shear_point(runs, scene))
             points.append(point)
         stable = [p for p in points if unstable_at is None or p["step_size"] < unstable_at]
-        critical = critical_step_size([p["step_size"] for p in stable], [p.get("relative_error", 0.0) for p in stable])
+        critical, low, high = critical_step_size_range([p["step_size"] for p in stable], [p.get("relative_error", 0.0) for p in stable],
+                                                       [p.get("error_bar", 0.0) for p in stable])
         limited_by = "accuracy"
         if critical is None and unstable_at is not None and stable:
             critical, limited_by = stable[-1]["step_size"], "stability"
         seconds = timings.get(method)
         summary["methods"][method] = {
-            "points": points, "unstable_at": unstable_at, "critical_step_size": critical, "critical_limited_by": limited_by,
+            "points": points, "unstable_at": unstable_at, "critical_step_size": critical, "critical_range": [low, high],
+            "critical_limited_by": limited_by,
             "seconds_per_step": seconds,
             "efficiency": critical / seconds if critical and seconds else None,
         }
@@ -63,6 +68,9 @@ def summarize(scene: Scene, results: List[RunResult], timings: Dict[str, float])
     for entry in summary["methods"].values():
         if reference and entry["efficiency"]:
             entry["scaled_efficiency"] = entry["efficiency"] / summary["methods"][reference]["efficiency"]
+    if "shear_viscosity" in scene.observables:
+        summary["shear_rate"] = scene.shear_rate
+        add_viscosity_errors(summary, scene)
     return summary
 
 
@@ -88,18 +96,20 @@ def markdown_table(summary: Dict) -> str:
     return "\n".join(lines)
 
 
-def plot_errors(summary: Dict, folder: Path) -> List[str]:
+def plot_errors(summary: Dict, folder: Path, error_key: str = "relative_error", bar_key: str = "error_bar",
+                ylabel: str = "relative error in configurational temperature", tag: str = "") -> List[str]:
+    """|error| (the points' error_key, with bar_key as error bar) against step size and against run time."""
     names = []
     for against in ("step_size", "run_time"):
         figure, axes = plt.subplots(figsize=(6.4, 4.6))
         all_h = []
         for method, entry in summary["methods"].items():
-            points = [p for p in entry["points"] if "relative_error" in p]
+            points = [p for p in entry["points"] if error_key in p]
             if not points:
                 continue
             h = np.array([p["step_size"] for p in points])
-            error = np.abs([p["relative_error"] for p in points])
-            bar = np.array([p["error_bar"] for p in points])
+            error = np.abs([p[error_key] for p in points])
+            bar = np.array([p[bar_key] for p in points])
             x = h if against == "step_size" else entry["seconds_per_step"] / h
             axes.errorbar(x, np.maximum(error, 1e-5), yerr=bar, marker="o", ms=4, capsize=2, label=method)
             if entry["unstable_at"] is not None:
@@ -113,11 +123,11 @@ def plot_errors(summary: Dict, folder: Path) -> List[str]:
         axes.set_xscale("log")
         axes.set_yscale("log")
         axes.set_xlabel("step size" if against == "step_size" else "CPU seconds per unit of simulated time")
-        axes.set_ylabel("relative error in configurational temperature")
+        axes.set_ylabel(ylabel)
         axes.set_title(f"{summary['title']} (x: unstable)")
         axes.legend(fontsize=8)
         figure.tight_layout()
-        name = f"error_vs_{against}_{summary['scene']}.png"
+        name = f"error_vs_{against}_{tag}{summary['scene']}.png"
         figure.savefig(folder / name, dpi=110)
         plt.close(figure)
         names.append(name)
@@ -201,6 +211,8 @@ def write_report(folder: Path, scenes: List[Scene], summaries: List[Dict], budge
         if rdf:
             parts.append(f"![{rdf}]({rdf})")
         parts.append("")
+        if "shear_viscosity" in scene.observables:
+            parts += shear_section(summary, scene, folder, plot_errors)
     (folder / "report.md").write_text("\n".join(parts))
     (folder / "results.json").write_text(json.dumps({"budget": budget_name, "threads": threads, "machine": machine,
                                                         "methods": {m: METHOD_DESCRIPTIONS[m] for m in METHOD_DESCRIPTIONS

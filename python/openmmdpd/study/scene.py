@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, List, Tuple
+from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 import openmm as mm
@@ -34,7 +34,9 @@ METHOD_DESCRIPTIONS = {
     "OpenMM-DPD": "OpenMM's built-in openmm.DPDIntegrator (its Reference kernel, also on the CPU platform), "
                   "soft force as a CustomNonbondedForce",
 }
-OBSERVABLES = ("configurational_temperature", "kinetic_temperature", "rdf", "pressure")
+OBSERVABLES = ("configurational_temperature", "kinetic_temperature", "rdf", "pressure", "shear_viscosity")
+#: Methods that run under Lees-Edwards shear (OpenMM's own DPDIntegrator has no sheared boundary).
+SHEARABLE_METHODS = ("VV", "S1", "ABOBA", "ABOBA-CustomNonbonded")
 
 
 @dataclass
@@ -53,6 +55,9 @@ class Budget:
         Time between samples, in ps.
     stepsize_growth : float
         Factor between successive step sizes (> 1).
+    first_stepsize : float or None
+        The budget's own smallest step size (ps), instead of the scene's ``[stepsizes] first`` (the
+        sheared scene's full budget starts at the paper's reference step, 0.001).
     """
 
     time: float             # simulated time units per run
@@ -60,6 +65,7 @@ class Budget:
     discard: float          # fraction of each run discarded as equilibration
     sample_interval: float  # time units between samples
     stepsize_growth: float  # factor between successive step sizes
+    first_stepsize: Optional[float] = None  # overrides the scene's first step size
 
 
 @dataclass
@@ -67,7 +73,9 @@ class Scene:
     """A scene file of the efficiency study: the system (``kind``, ``num_particles``, ``density`` in
     nm^-3, ``a`` in kJ/mol/nm, ``cutoff`` in nm), the friction (amu/ps) and dissipative cutoff (nm),
     the methods, the first and last step sizes and the timing step size (ps), the observables, the
-    RDF's range (nm) and bins, and the budgets."""
+    RDF's range (nm) and bins, and the budgets.  A ``[shear]`` table (``rate`` in 1/ps, ``profile_bins``)
+    runs every method under Lees-Edwards shear (Shang 2021 sec. 3.1.2); ``[paper.critical_step_size]``
+    holds the paper's critical step sizes per observable and method, shown next to the measured ones."""
 
     name: str
     title: str
@@ -81,10 +89,15 @@ class Scene:
     rdf_max_distance: float
     rdf_bins: int
     budgets: Dict[str, Budget] = field(default_factory=dict)
+    shear_rate: float = 0.0               # Lees-Edwards shear rate kappa (1/ps); 0: no shear
+    profile_bins: int = 10                # bins of the streaming profile <v_x>(y)
+    paper_critical_step_sizes: Dict[str, Dict[str, float]] = field(default_factory=dict)
 
     def stepsize_grid(self, budget: Budget) -> np.ndarray:
-        """The step sizes (ps) from the first to the last, up by the budget's growth factor."""
+        """The step sizes (ps) from the first (the budget's own, if it has one) to the last, up by the
+        budget's growth factor."""
         first, last = self.stepsizes
+        first = budget.first_stepsize or first
         count = int(np.floor(np.log(last / first) / np.log(budget.stepsize_growth) + 1e-9)) + 1
         return first * budget.stepsize_growth ** np.arange(count)
 
@@ -103,6 +116,8 @@ class Scene:
         else:
             scheme = "ABOBA" if method == "ABOBA-CustomNonbonded" else method
             integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, self.friction, self.dissipative_cutoff, step_size, scheme)
+            if self.shear_rate > 0:
+                integrator.setLeesEdwards(self.shear_rate)
         integrator.setRandomNumberSeed(seed)
         return integrator
 
@@ -134,10 +149,22 @@ def load_scene(path: Path) -> Scene:
         if observable not in OBSERVABLES:
             raise ValueError(f"{path}: unknown observable {observable!r}; the observables are {', '.join(OBSERVABLES)}")
     budgets = {name: Budget(**values) for name, values in data["budget"].items()}
+    shear = data.get("shear", {})
+    shear_rate = float(shear.get("rate", 0.0))
+    if not (np.isfinite(shear_rate) and shear_rate >= 0):
+        raise ValueError(f"{path}: shear rate = {shear_rate} is out of range; it must be finite and >= 0")
+    if shear_rate > 0:
+        for method in methods:
+            if method not in SHEARABLE_METHODS:
+                raise ValueError(f"{path}: method {method!r} cannot run under shear; the methods are {', '.join(SHEARABLE_METHODS)}")
+    if "shear_viscosity" in observables and shear_rate == 0:
+        raise ValueError(f"{path}: the observable 'shear_viscosity' needs a [shear] table with rate > 0")
     return Scene(
         name=data["name"], title=data["title"], system=dict(data["system"]),
         friction=float(data["dynamics"]["friction"]), dissipative_cutoff=float(data["dynamics"]["dissipative_cutoff"]),
         methods=methods, stepsizes=(float(data["stepsizes"]["first"]), float(data["stepsizes"]["last"])),
         timing_stepsize=float(data["stepsizes"]["timing"]), observables=observables,
         rdf_max_distance=float(data["observables"].get("rdf_max_distance", 1.5)),
-        rdf_bins=int(data["observables"].get("rdf_bins", 45)), budgets=budgets)
+        rdf_bins=int(data["observables"].get("rdf_bins", 45)), budgets=budgets, shear_rate=shear_rate,
+        profile_bins=int(shear.get("profile_bins", 10)),
+        paper_critical_step_sizes={k: dict(v) for k, v in data.get("paper", {}).get("critical_step_size", {}).items()})

@@ -44,3 +44,13 @@ def critical_step_size(step_sizes: Sequence[float], relative_errors: Sequence[fl
             t = (np.log(level) - np.log(lo)) / (np.log(hi) - np.log(lo))
             return float(np.exp(np.log(h[k - 1]) + t * (np.log(h[k]) - np.log(h[k - 1]))))
     return None
+
+
+def critical_step_size_range(step_sizes: Sequence[float], relative_errors: Sequence[float], error_bars: Sequence[float],
+                             level: float = 0.1) -> Tuple[Optional[float], Optional[float], Optional[float]]:
+    """The critical step size and the step sizes at which |error| + bar and |error| - bar reach `level`
+    (the first is the smaller; None where that curve never reaches it): a one-standard-error range."""
+    e = np.abs(np.asarray(relative_errors, dtype=float))
+    bar = np.asarray(error_bars, dtype=float)
+    return (critical_step_size(step_sizes, e, level), critical_step_size(step_sizes, e + bar, level),
+            critical_step_size(step_sizes, np.maximum(e - bar, 0.0), level))

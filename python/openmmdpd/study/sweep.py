@@ -10,6 +10,7 @@ import numpy as np
 import openmm as mm
 
 import openmmdpd as dpd
+from openmmdpd.shear import streaming_profile
 
 from .scene import Budget, Scene
 
@@ -28,29 +29,64 @@ class RunResult:
     pressure: List[float] = field(default_factory=list)
     rdf_histogram: Optional[List[float]] = None
     rdf_samples: int = 0
+    # Under shear, per sample interval: the interval's mean sigma_xy (symmetrised, kJ/mol/nm^3) with the
+    # shipped estimator (all four parts; D + R = sum r (x) Delta p / h of the O sweep) and without the
+    # random part (its mean is zero: same expectation, other variance); and the summed streaming profile.
+    shear_stress: List[float] = field(default_factory=list)
+    shear_stress_without_random: List[float] = field(default_factory=list)
+    profile_sum: Optional[List[float]] = None
+    profile_samples: int = 0
+    box_height: float = 0.0
 
 
 def platform_properties(threads: int) -> dict:
     return {"Threads": str(threads)}
 
 
+def symmetric_xy(tensor: np.ndarray) -> float:
+    return float(0.5 * (tensor[0, 1] + tensor[1, 0]))
+
+
 def run_one(scene: Scene, method: str, step_size: float, run: int, budget: Budget, seed: int) -> RunResult:
     """Simulate budget.time time units; sample after the discarded fraction, at the positions the
-    Context holds after each step (q^{n+1})."""
+    Context holds after each step (q^{n+1}).  Under shear the centre-of-mass velocity is removed at the
+    start, and the stress is accumulated over every step after the discarded fraction (each sample is
+    the mean over the steps since the previous one)."""
     result = RunResult(scene.name, method, float(step_size), run)
     system, positions, _ = scene.build(method, seed)
     integrator = scene.integrator(method, step_size, seed)
     context = mm.Context(system, integrator, mm.Platform.getPlatformByName("CPU"), platform_properties(1))
     context.setPositions(positions)
     context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, seed)
+    if scene.shear_rate > 0:  # a centre-of-mass velocity along y would carry the profile along x
+        velocities = context.getState(getVelocities=True).getVelocities(asNumpy=True)
+        context.setVelocities(velocities - velocities.mean(axis=0))
+    measure_shear = "shear_viscosity" in scene.observables
     total_steps = max(1, int(round(budget.time / step_size)))
     sample_steps = max(1, int(round(budget.sample_interval / step_size)))
     discard_steps = int(round(budget.discard * total_steps))
     histogram = np.zeros(scene.rdf_bins)
     try:
         integrator.step(discard_steps)
+        if measure_shear:
+            integrator.setStressAccumulation(True)
+            previous = integrator.getStressStatistics()
+            profile_sum = np.zeros(scene.profile_bins)
         for _ in range((total_steps - discard_steps) // sample_steps):
             integrator.step(sample_steps)
+            if measure_shear:
+                current = integrator.getStressStatistics()
+                interval = current - previous
+                previous = current
+                total = interval.mean()
+                result.shear_stress.append(symmetric_xy(total))
+                result.shear_stress_without_random.append(symmetric_xy(total - interval.mean("random")))
+                profile, result.box_height = streaming_profile(context, scene.shear_rate, scene.profile_bins)
+                if np.isfinite(profile).all():  # a bin empty at this instant: the sample is left out
+                    profile_sum += profile
+                    result.profile_samples += 1
+                if not np.isfinite(total).all():
+                    raise mm.OpenMMException(f"non-finite stress at step {context.getStepCount()}")
             if "configurational_temperature" in scene.observables:
                 gradient_squared, laplacian = dpd.configurational_sums(context)
                 if not np.isfinite(gradient_squared):  # OpenMM's own integrators run on with NaN
@@ -69,6 +105,8 @@ def run_one(scene: Scene, method: str, step_size: float, run: int, budget: Budge
         result.message = str(error).splitlines()[0]
     if "rdf" in scene.observables and not result.unstable:
         result.rdf_histogram = histogram.tolist()
+    if measure_shear and not result.unstable:
+        result.profile_sum = profile_sum.tolist()
     return result
 
 
