@@ -14,6 +14,8 @@ namespace OpenMMDPD {
 class CpuDPDThreadBarrier {
 public:
     explicit CpuDPDThreadBarrier(int numThreads = 1) : numThreads(numThreads) {}
+    /** Change the number of threads that meet here; only while no thread waits. */
+    void setNumThreads(int count) { numThreads = count; }
     void wait() {
         if (numThreads == 1)
             return;

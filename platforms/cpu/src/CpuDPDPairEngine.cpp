@@ -31,7 +31,8 @@ void CpuDPDPairEngine::CandidateSet::resize(int count, std::size_t maxPairs) {
 }
 
 CpuDPDPairEngine::CpuDPDPairEngine(OpenMM::ThreadPool& threads)
-    : threads(threads), numThreads(threads.getNumThreads()), barrier(numThreads), buffers(numThreads), candidateSets(numThreads), blocks(numThreads) {}
+    : threads(threads), numThreads(threads.getNumThreads()), barrier(numThreads), buffers(numThreads), candidateSets(numThreads),
+      blocks(numThreads) {}
 
 void CpuDPDPairEngine::onThreads(const std::function<void(int)>& body) {
     if (numThreads == 1) { // no hand-over to a worker thread: small systems pay no fixed cost per call
@@ -140,6 +141,11 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
     int numParticles = static_cast<int>(positions.size());
     grid.prepare(numParticles, box, radius);
     int numCells = grid.getNumCells();
+    // Threads pay off only when each has enough cells of a colour between two barriers; otherwise the
+    // whole list goes to one thread.  Only the split changes, never the order: the same bits either way.
+    const int minCellsPerThreadAndColor = 8;
+    numThreads = numCells >= minCellsPerThreadAndColor*threads.getNumThreads()*grid.getNumColors() ? threads.getNumThreads() : 1;
+    barrier.setNumThreads(numThreads);
     cellPairBegin.resize(numCells);
     cellPairEnd.resize(numCells);
     cellSum.assign(numCells, 0.0);
