@@ -1,6 +1,6 @@
 // The integrator's pair lists.  With a DPDForce of the same cutoff the O sweep reuses the force's
 // pair list; otherwise (the conservative force comes from another OpenMM force, or the dissipative
-// cutoff is larger) the integrator keeps its own Verlet list.  Both must give the same dynamics:
+// cutoff is larger) the integrator finds its own pairs with a second pair engine.  Both must give the same dynamics:
 //  - VV's dissipative and random forces are sums over pairs, independent of the pair order, so its
 //    trajectories agree to round-off whichever list is used;
 //  - S1's and ABOBA's successive sweeps depend on the pair order (any order is valid, Shang 2021
@@ -80,8 +80,8 @@ TEST(PairLists, CustomNonbondedEquivalentHasTheSameForces) {
 }
 
 TEST(PairLists, VVTrajectoryIsTheSameWithTheIntegratorsOwnPairList) {
-    // Same seed, same start, 40 steps (2 time units; the own Verlet list, skin 0.4 nm, is rebuilt
-    // every few steps): DPDForce with the shared list vs (a) the CustomNonbondedForce equivalent
+    // Same seed, same start, 40 steps (2 time units; the integrator's own pairs are searched at every
+    // step): DPDForce with the shared list vs (a) the CustomNonbondedForce equivalent
     // (Reference, double precision) and (b) the DPDForce with the integrator's own list (both
     // platforms).  Forces agree to ~1e-14 and the random numbers are the same function of (step, i, j),
     // so the runs differ only by round-off amplified by the dynamics (measured ~1e-12); 1e-8 nm is far
@@ -180,7 +180,7 @@ double dpdLaplacian(const std::vector<Vec3>& positions, double boxLength) {
 TEST(PairLists, ABOBAStatisticsAreTheSameWithACustomNonbondedForce) {
     // The standard scene (N = 500, gamma = 4.5, dt = 0.05) on CPU, 2000 steps sampled every 5 after
     // 100, with the DPDForce (shared pair list) and with the CustomNonbondedForce equivalent (the
-    // integrator's own Verlet list).  The two runs are different samples of the same ensemble of the
+    // integrator's own pairs).  The two runs are different samples of the same ensemble of the
     // same scheme, so their kinetic and configurational temperatures must agree within 5 combined
     // standard errors (block averages), with no bias allowance: the discretisation bias is common to both.
     // Measured: T_kin = 1.042 +- 0.004 / 1.038 +- 0.004, T_conf = 0.987 +- 0.004 / 0.984 +- 0.006.
