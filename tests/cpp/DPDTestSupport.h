@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
@@ -21,6 +22,10 @@
 #include <vector>
 
 namespace OpenMMDPDTest {
+
+/** Hostile inputs of the bad-input and reliability tests. */
+const double notANumber = std::numeric_limits<double>::quiet_NaN();
+const double infinite = std::numeric_limits<double>::infinity();
 
 /** Load OpenMM's own plugins and this project's kernels once per process. */
 inline void loadPlugins() {

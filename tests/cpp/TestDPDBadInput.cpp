@@ -5,16 +5,10 @@
 #include "DPDTestSupport.h"
 #include "openmm/VerletIntegrator.h"
 #include <gtest/gtest.h>
-#include <limits>
 
 using namespace OpenMM;
 using namespace OpenMMDPD;
 using namespace OpenMMDPDTest;
-
-namespace {
-const double notANumber = std::numeric_limits<double>::quiet_NaN();
-const double infinite = std::numeric_limits<double>::infinity();
-}
 
 TEST(BadInput, NegativeFriction) {
     EXPECT_TRUE(throwsMentioning([] { DPDIntegrator object(reducedTemperature, -1.0, 1.0, 0.05); }, {"friction"}));

@@ -17,9 +17,6 @@ using namespace OpenMMDPDTest;
 
 namespace {
 
-const double notANumber = std::numeric_limits<double>::quiet_NaN();
-const double infinite = std::numeric_limits<double>::infinity();
-
 std::unique_ptr<DPDIntegrator> seededIntegrator(const std::string& scheme, double friction = 4.5, double cutoff = 1.0, int seed = 5) {
     auto integrator = std::make_unique<DPDIntegrator>(reducedTemperature, friction, cutoff, 0.04, scheme);
     integrator->setRandomNumberSeed(seed);
