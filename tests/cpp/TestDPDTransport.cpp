@@ -113,8 +113,9 @@ TEST(Transport, NortonAtZeroResponseHasPlainABOBAStatistics) {
         BlockEstimate conf = samples.configurationalEstimate();
         mean[norton] = conf.mean;
         error[norton] = conf.standardError;
-        if (norton)
+        if (norton) {
             EXPECT_LT(std::fabs(integrator.getTransportStatistics().lastResponse), 1e-12);
+        }
     }
     EXPECT_LT(std::fabs(mean[0]-mean[1]), 5*std::hypot(error[0], error[1]))
         << "plain " << mean[0] << " +- " << error[0] << ", Norton " << mean[1] << " +- " << error[1];
