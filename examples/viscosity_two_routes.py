@@ -15,10 +15,12 @@ Fluid: rho = 3, a = 25, r_c = 1, kT = 1, unit masses; ABOBA at one friction.
     results.json go to --out.
 
     PYTHONPATH=build/python python examples/viscosity_two_routes.py --friction 4.5 --out out/visc_4.5
-    PYTHONPATH=build/python python examples/viscosity_two_routes.py --friction 40.5 --step 0.01 --out out/visc_40.5
+    PYTHONPATH=build/python python examples/viscosity_two_routes.py --friction 40.5 --time 80 --le-time 250 --out out/visc_40.5
 
---time is the sampled time per run of each box and of LE (the default budget, 3 runs, takes about 4-5
-minutes at gamma = 4.5, h = 0.02 on one core).
+--time is the sampled time per run of each NEMD box, --le-time that of each LE run (longer by default: for
+equal cost the LE error is the larger).  The smallest box also runs at twice its forcing (U_1 must not
+change: the linear regime).  The defaults, 3 runs, take about 4 minutes at gamma = 4.5, h = 0.02 on one
+core (LE with stress accumulation ~1 us per particle-step, NEMD ~0.6 us).
 """
 
 from __future__ import annotations
@@ -139,7 +141,9 @@ def main() -> None:
     parser.add_argument("--friction", type=float, default=4.5)
     parser.add_argument("--step", type=float, default=None, help="step size (default 0.02 for gamma <= 10, else 0.01)")
     parser.add_argument("--time", type=float, default=None,
-                        help="sampled time units per run and box (default 300 at h = 0.02, scaled by h / 0.02)")
+                        help="sampled time units per NEMD run and box (default 120 at h = 0.02, scaled by h / 0.02)")
+    parser.add_argument("--le-time", type=float, default=None,
+                        help="sampled time units per Lees-Edwards run (default 500 at h = 0.02, scaled by h / 0.02)")
     parser.add_argument("--runs", type=int, default=3, help="independent runs per box")
     parser.add_argument("--shear-rate", type=float, default=0.2, help="Lees-Edwards kappa")
     parser.add_argument("--peak-rate", type=float, default=None, help="peak shear rate k U of the sinusoidal flow (default kappa)")
@@ -150,13 +154,14 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("out/viscosity_two_routes"))
     args = parser.parse_args()
     step = args.step or (0.02 if args.friction <= 10 else 0.01)
-    sample_time = args.time or 300.0 * step / 0.02
+    sample_time = args.time or 120.0 * step / 0.02
+    le_time = args.le_time or 500.0 * step / 0.02
     peak_rate = args.peak_rate or args.shear_rate
     args.out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
 
-    le, le_error, le_runs, le_run_errors = lees_edwards(args.friction, step, args.shear_rate, args.le_box, sample_time,
-                                                        max(20.0, 0.2 * sample_time), args.runs, args.seed)
+    le, le_error, le_runs, le_run_errors = lees_edwards(args.friction, step, args.shear_rate, args.le_box, le_time,
+                                                        max(20.0, 0.1 * le_time), args.runs, args.seed)
     print(f"LE: eta = {le:.4f} ± {le_error:.4f}  (runs {np.round(le_runs, 4).tolist()}, {time.perf_counter() - start:.0f} s)", flush=True)
 
     boxes = []
@@ -168,6 +173,13 @@ def main() -> None:
         box = sinusoidal_nemd(args.friction, step, forcing, args.lx, ly, sample_time, max(20.0, 5 * relaxation),
                               args.runs, args.seed + 100 * int(m))
         box["relaxation_time"] = relaxation
+        if m == args.elongations[0]:  # linearity: the same box at twice the forcing must give the same U_1
+            double = sinusoidal_nemd(args.friction, step, 2 * forcing, args.lx, ly, sample_time, max(20.0, 5 * relaxation),
+                                     args.runs, args.seed + 100 * int(m) + 50)
+            box["linearity"] = {"forcing": 2 * forcing, "U1": double["U1"], "U1_error": double["U1_error"],
+                                "nu": double["nu"], "nu_error": double["nu_error"]}
+            print(f"linearity, L_y = {box['L_y']:.3f}: U1 = {box['U1']:.3f} ± {box['U1_error']:.3f} at forcing {forcing:.4f}, "
+                  f"{double['U1']:.3f} ± {double['U1_error']:.3f} at {2 * forcing:.4f}", flush=True)
         boxes.append(box)
         print(f"L_y = {box['L_y']:.3f} (N = {box['N']}): k = {box['k']:.4f}, forcing {forcing:.4f}, "
               f"peak shear rate {box['k'] * box['peak_velocity']:.3f}, nu = {box['nu']:.4f} ± {box['nu_error']:.4f} "
@@ -179,11 +191,16 @@ def main() -> None:
     lines = [f"γ = {args.friction}, h = {step}, ABOBA, {args.runs} runs × {sample_time:g} time units per box; "
              f"LE κ = {args.shear_rate} in a {args.le_box}³ box; NEMD peak shear rate {peak_rate}",
              "", "| route | N | k (nm⁻¹) | k² | viscosity |", "|---|---|---|---|---|",
-             f"| Lees–Edwards | {int(round(DENSITY * args.le_box**3))} | 0 | 0 | {le:.3f} ± {le_error:.3f} |"]
+             f"| Lees–Edwards ({args.runs} × {le_time:g} time units) | {int(round(DENSITY * args.le_box**3))} | 0 | 0 | "
+             f"{le:.3f} ± {le_error:.3f} |"]
     for b in boxes:
         lines.append(f"| sinusoidal NEMD, L_y = {b['L_y']:.2f} | {b['N']} | {b['k']:.3f} | {b['k']**2:.3f} | "
                      f"{b['nu']:.3f} ± {b['nu_error']:.3f} |")
     lines.append(f"| ν0 = ν(k → 0), fit ν0 + c k² | | 0 | 0 | {fit['nu0']:.3f} ± {fit['nu0_error']:.3f} |")
+    linear = boxes[0]["linearity"]
+    lines += ["", f"Linearity (L_y = {boxes[0]['L_y']:.2f}): U₁ = {boxes[0]['U1']:.3f} ± {boxes[0]['U1_error']:.3f} at forcing "
+              f"{boxes[0]['forcing']:.4f}, {linear['U1']:.3f} ± {linear['U1_error']:.3f} at twice it "
+              f"(ν = {linear['nu']:.3f} ± {linear['nu_error']:.3f})."]
     lines += ["", f"c = {fit['c']:.3f} ± {fit['c_error']:.3f} nm², χ² = {fit['chi2']:.2f} for {fit['dof']} dof; "
               f"ν0 − η_LE = {difference:+.3f} ± {sigma:.3f} = {difference / sigma:+.2f} σ "
               f"({'within' if abs(difference) <= 2 * sigma else 'NOT within'} 2σ)"]
@@ -191,7 +208,7 @@ def main() -> None:
     print(table)
     plot(args.out / "viscosity_two_routes.png", le, le_error, boxes, fit, args.friction)
     with open(args.out / "results.json", "w") as file:
-        json.dump({"friction": args.friction, "step_size": step, "runs": args.runs, "sample_time": sample_time,
+        json.dump({"friction": args.friction, "step_size": step, "runs": args.runs, "sample_time": sample_time, "le_time": le_time,
                    "lees_edwards": {"shear_rate": args.shear_rate, "box": args.le_box, "eta": le, "error": le_error,
                                     "runs": le_runs, "run_errors": le_run_errors},
                    "sinusoidal_nemd": boxes, "fit": fit, "difference": difference, "difference_sigma": difference / sigma,
