@@ -83,3 +83,25 @@ def mobility_from_msd(times: np.ndarray, msd_per_run: Sequence[np.ndarray], kT: 
     diffusion = np.array(slopes) / 6.0
     error = diffusion.std(ddof=1) / np.sqrt(len(diffusion)) if len(diffusion) > 1 else float("nan")
     return float(diffusion.mean() / kT), float(error / kT)
+
+
+def extrapolate_k_squared(wavenumbers: Sequence[float], values: Sequence[float], errors: Sequence[float]):
+    """Weighted least-squares fit ``nu(k) = nu0 + c k^2`` to viscosities measured at wavenumbers ``k``
+    (nm^-1) with standard errors ``errors`` (weights 1/error^2, the errors taken as absolute).
+
+    Returns a dict: ``nu0`` and ``nu0_error`` (the k -> 0 value), ``c`` and ``c_error``, their covariance
+    ``cov``, ``chi2`` and ``dof`` (points - 2).  Needs at least two distinct wavenumbers."""
+    k2 = np.asarray(wavenumbers, dtype=float) ** 2
+    y = np.asarray(values, dtype=float)
+    sigma = np.asarray(errors, dtype=float)
+    if len(k2) < 2 or len(np.unique(k2)) < 2:
+        raise ValueError("the fit needs at least two distinct wavenumbers")
+    if not np.all(sigma > 0):
+        raise ValueError("every error must be > 0")
+    design = np.column_stack([np.ones_like(k2), k2]) / sigma[:, None]
+    normal = design.T @ design
+    cov = np.linalg.inv(normal)
+    nu0, c = cov @ (design.T @ (y / sigma))
+    residual = (y - nu0 - c * k2) / sigma
+    return {"nu0": float(nu0), "nu0_error": float(np.sqrt(cov[0, 0])), "c": float(c), "c_error": float(np.sqrt(cov[1, 1])),
+            "cov": cov.tolist(), "chi2": float(residual @ residual), "dof": int(len(k2) - 2)}
