@@ -98,6 +98,7 @@ private:
     std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its thread's buffer
     std::vector<CpuDPDPairUpdateBlock> blocks;        // one per thread
     std::vector<DPDPairStressSums> cellStress;        // per-cell pair stress sums of a sweep that gathers stress
+    std::vector<int> nonFinite;                       // per thread: the first particle found with a non-finite position, or -1
     std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order
     std::vector<OpenMM::Vec3> sortedForces, sortedVelocities, sortedResponse;
     std::vector<int> sortedRepulsionType, sortedFrictionType;

@@ -156,7 +156,7 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
         for (std::size_t k = 0; k < inverseRepulsionCutoff.size(); k++)
             inverseRepulsionCutoff[k] = 1.0/repulsion->cutoff[k];
     }
-    std::vector<int> nonFinite(numThreads, -1);
+    nonFinite.assign(numThreads, -1);
     onThreads([&](int thread) {
         int first = particleRangeBegin(thread, numParticles), last = particleRangeBegin(thread+1, numParticles);
         nonFinite[thread] = grid.locate(positions, first, last);
