@@ -112,5 +112,13 @@ def test_tiny_sheared_study_gives_a_finite_viscosity_table(tmp_path):
     report = write_report(tmp_path, [scene], [summary], "tiny", 1, 1.0, "test")
     text = report.read_text()
     assert "Shear viscosity (Table 6)" in text and "0.0120" in text and "Reference viscosity: S1" in text
+    import csv
+
+    with open(tmp_path / "results.csv", newline="") as file:
+        rows = list(csv.DictReader(file))
+    assert len(rows) == 4  # the CSV carries the viscosity of every point, as results.json does
+    for row, p in zip(rows, points):
+        assert float(row["shear_viscosity"]) == p["shear_viscosity"]
+        assert float(row["viscosity_relative_error"]) == p["viscosity_relative_error"]
     assert (tmp_path / f"error_vs_step_size_viscosity_{scene.name}.png").exists()
     assert (tmp_path / f"profile_{scene.name}.png").exists()

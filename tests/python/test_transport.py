@@ -1,4 +1,5 @@
-"""Transport estimators and the transport scene file."""
+"""Transport estimators, the transport scene file, the study's plan (two stages, matched Norton runs)
+and a whole study at a tiny budget."""
 
 from pathlib import Path
 
@@ -6,9 +7,11 @@ import numpy as np
 import pytest
 
 from openmmdpd.transport import mobility_from_msd, nemd_coefficient, norton_coefficient
-from openmmdpd.transport.__main__ import decode_result, encode_result, run_name, tasks_of
+from openmmdpd.transport.__main__ import decode_result, encode_result, main
 from openmmdpd.transport.estimators import viscosity
-from openmmdpd.transport.runner import Task, TaskResult
+from openmmdpd.transport.plan import is_matched_norton, matched_responses, run_length, run_name, seed_of, tasks_of
+from openmmdpd.transport.points import weighted_power_law
+from openmmdpd.transport.runner import SeriesSummary, Task, TaskResult, autocorrelation, colour_drift_response, run_task
 from openmmdpd.transport.scene import load_transport_scene
 
 SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "transport_lj_fluid.toml"
@@ -43,20 +46,160 @@ def test_mobility_from_a_linear_msd():
     assert error == pytest.approx(0.01)
 
 
-def test_transport_scene_and_its_tasks():
+def test_transport_scene_and_its_plan():
     scene = load_transport_scene(SCENE)
-    assert scene.mobility_profile == "ColourDrift" and scene.frictions == [4.5, 40.5]
+    assert scene.curve_frictions == [4.5, 40.5] and set(scene.curve_forcings) == {
+        "ColourDrift", "TwoDrifts", "sinusoidal", "piecewise_linear", "piecewise_constant"}
     assert {"reduced", "full"} <= set(scene.budgets)
-    tasks = tasks_of(scene, runs=2)
-    # per run: 2 MSD, 4+4 forcing strengths at the first friction, 1+1 at the second, 3 profiles x 2 methods x 2 frictions
-    assert len(tasks) == 2 * (2 + 8 + 2 + 12)
     assert scene.box_height() == pytest.approx((500 / 0.85) ** (1 / 3))
+    tasks = tasks_of(scene, runs=2)
+    names = [run_name(t) for t in tasks]
+    assert len(set(names)) == len(names)  # a point shared by two parts of the study is run once
+    nemd = {(t.friction, t.profile, t.strength, t.num_particles) for t in tasks if t.kind == "NEMD"}
+    matched = {(t.friction, t.profile, t.strength, t.num_particles) for t in tasks if is_matched_norton(t)}
+    assert nemd == matched  # every NEMD point has its matched Norton point, and only those
+    curve_points = sum(len(v) for v in scene.curve_forcings.values()) * len(scene.curve_frictions)
+    extra_scan = 2 * len([g for g in scene.scan_frictions if g not in scene.curve_frictions])
+    curve = {(g, p, eta) for g in scene.curve_frictions for p, forcings in scene.curve_forcings.items() for eta in forcings}
+    extra_size = len([n for n in scene.sizes if n != scene.num_particles or (4.5, "sinusoidal", scene.size_forcing_of(n)) not in curve])
+    assert [scene.size_forcing_of(n) for n in scene.sizes] == [0.63, 0.5, 0.3969, 0.315]  # the same peak shear rate
+    assert len(nemd) == curve_points + extra_scan + extra_size
+    equilibrium = {(t.friction, t.num_particles) for t in tasks if t.kind == "Equilibrium"}
+    assert equilibrium == {(g, 500) for g in scene.scan_frictions} | {(4.5, n) for n in scene.sizes}
+    assert len(tasks) == 2 * (2 * len(nemd) + len(equilibrium) + 2 * len(scene.sizes))
+    # Seeds are a function of the task alone, and differ between tasks.
+    assert len({seed_of(2024, t) for t in tasks}) == len(tasks) and seed_of(2024, tasks[3]) == seed_of(2024, tasks[3])
 
 
-def test_every_transport_run_has_its_own_file_and_survives_the_round_trip():
+def test_large_systems_shorten_forced_runs_but_not_equilibrium_runs():
+    scene = load_transport_scene(SCENE)
+    budget = scene.budgets["reduced"]
+    assert run_length(scene, budget, Task("NEMD", 4.5, "sinusoidal", 1.0, 0, 2000)).time == pytest.approx(budget.time / 4)
+    assert run_length(scene, budget, Task("Norton", 4.5, "sinusoidal", 0.0, 0, 1000)).time == pytest.approx(budget.time / 2)
+    equilibrium = run_length(scene, budget, Task("Equilibrium", 4.5, "equilibrium", 0.0, 0, 2000))
+    assert equilibrium.time == budget.time and equilibrium.equilibration == pytest.approx(budget.equilibration * 4 ** (2 / 3))
+    assert run_length(scene, budget, Task("NEMD", 4.5, "sinusoidal", 1.0, 0, 250)).time == budget.time
+
+
+def test_matched_norton_response_is_the_pooled_nemd_mean():
+    nemd = [TaskResult(Task("NEMD", 4.5, "sinusoidal", 1.0, k, 500), strength=1.0, block_means=means)
+            for k, means in enumerate(([0.1, 0.3], [0.2, 0.2, 0.2]))]
+    failed = TaskResult(Task("NEMD", 4.5, "sinusoidal", 1.0, 2, 500), strength=1.0, failure="unstable")
+    norton = [Task("Norton", 4.5, "sinusoidal", 1.0, 0, 500), Task("Norton", 4.5, "sinusoidal", 4.0, 0, 500)]
+    responses = matched_responses(norton, {r.task: r for r in nemd + [failed]})
+    assert responses == {norton[0]: pytest.approx(0.2)}  # no NEMD run at eta = 4: no matched run
+
+
+def test_every_transport_run_survives_the_json_round_trip():
     import json
 
-    tasks = tasks_of(load_transport_scene(SCENE), runs=2)
-    assert len({run_name(task) for task in tasks}) == len(tasks)
-    result = TaskResult(Task("Norton", 4.5, "ColourDrift", 0.2, 1), block_means=[0.1, 1 / 3])
+    result = TaskResult(Task("Norton", 4.5, "ColourDrift", 0.0, 1, 500), strength=0.0, block_means=[0.1, 1 / 3],
+                        series={"lambda_ColourDrift": SeriesSummary(0.01, 2.0, 0.1, [1.0, 0.5], [0.3, -1 / 3])})
     assert decode_result(json.loads(json.dumps(encode_result(result)))) == result
+
+
+def test_autocorrelation_of_an_autoregressive_series():
+    # x_{k+1} = phi x_k + noise has autocorrelation phi^k; 2e5 values give errors ~ 1/sqrt(n) ~ 0.003.
+    rng = np.random.default_rng(7)
+    phi, n = 0.8, 200_000
+    noise = rng.normal(size=n)
+    x = np.empty(n)
+    x[0] = noise[0]
+    for k in range(1, n):
+        x[k] = phi * x[k - 1] + noise[k]
+    acf = autocorrelation(x, 10)
+    assert acf[0] == 1.0
+    assert np.allclose(acf, phi ** np.arange(11), atol=0.02)
+
+
+def test_power_law_fit_recovers_a_known_exponent_within_its_error():
+    rng = np.random.default_rng(3)
+    n = np.array([250.0, 500.0, 1000.0, 2000.0, 4000.0])
+    exponents = []
+    for _ in range(200):
+        y = 2.0 * n ** (-2 / 3) * (1 + 0.05 * rng.normal(size=len(n)))
+        fit = weighted_power_law(n, y, 0.05 * 2.0 * n ** (-2 / 3))
+        exponents.append((fit["exponent"] + 2 / 3) / fit["exponent_error"])
+    pulls = np.array(exponents)
+    assert abs(pulls.mean()) < 0.3 and 0.8 < pulls.std() < 1.2  # the stated error is the real scatter
+    with pytest.raises(ValueError, match="at least three points"):
+        weighted_power_law([1.0, 2.0], [1.0, 0.5], [0.1, 0.1])
+
+
+def test_colour_drift_response_is_the_integrators():
+    # The equilibrium runs compute R of the colour drift from the velocities; NEMD at eta = 0 with the
+    # colour drift has the integrator compute the same R.
+    import openmm as mm
+
+    import openmmdpd as dpd
+
+    scene = load_transport_scene(SCENE)
+    system, positions = scene.fluid.build(128, 3)
+    integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 2.5, 0.01, "ABOBA")
+    integrator.setNEMD(dpd.ColourDrift(), 0.0)
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName("Reference"))
+    context.setPositions(positions)
+    context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 3)
+    for _ in range(3):
+        integrator.step(2)
+        velocities = context.getState(getVelocities=True).getVelocities(asNumpy=True).value_in_unit(mm.unit.nanometer / mm.unit.picosecond)
+        assert colour_drift_response(velocities) == pytest.approx(integrator.getTransportStatistics().last_response, rel=1e-12, abs=1e-15)
+
+
+def test_a_norton_run_holds_its_response_and_a_nemd_run_reports_its_forcing():
+    from openmmdpd.transport.runner import RunLength
+
+    scene = load_transport_scene(SCENE)
+    length = RunLength(time=0.2, equilibration=0.05, block_time=0.05)
+    norton = run_task(scene.fluid, length, Task("Norton", 40.5, "sinusoidal", 1.0, 0, 128), 0.07, seed=5)
+    assert norton.failure == "" and norton.strength == 0.07 and len(norton.block_means) == 4
+    assert all(np.isfinite(norton.block_means)) and np.mean(norton.block_means) > 0  # pushing the flow to r > 0
+    equilibrium = run_task(scene.fluid, length, Task("Norton", 4.5, "ColourDrift", 0.0, 0, 128), 0.0, seed=5)
+    summary = equilibrium.series["lambda_ColourDrift"]
+    assert len(summary.histogram_values) == 20 and summary.acf[0] == 1.0 and summary.variance > 0
+
+
+def test_a_whole_study_at_a_tiny_budget(tmp_path):
+    import json
+
+    text = SCENE.read_text()
+    text = text.replace("num_particles = 500", "num_particles = 128")
+    start = text.index("[response_curves]")
+    text = text[:start] + """[response_curves]
+frictions = [4.5]
+sinusoidal = [1.0, 4.0]
+ColourDrift = [16.0]
+
+[friction_scan]
+frictions = [4.5, 40.5]
+mobility_forcing = 16.0
+viscosity_forcing = 1.0
+
+[size_scan]
+friction = 4.5
+num_particles = [128, 256]
+forcing = 1.0
+
+[budget.tiny]
+time = 0.4
+equilibration = 0.1
+runs = 2
+block_time = 0.05
+"""
+    scene_file = tmp_path / "tiny.toml"
+    scene_file.write_text(text)
+    assert main([str(scene_file), "--budget", "tiny", "--out", str(tmp_path / "out"), "--workers", "1"]) == 0
+    data = json.loads((tmp_path / "out" / "results.json").read_text())
+    assert not data["failures"]
+    points = {(p["method"], p["friction"], p["profile"], p["eta"], p["num_particles"]): p for p in data["points"]}
+    for (method, g, profile, eta, n), point in points.items():
+        if method == "Norton":  # stage 2 held r = E_eta[R] of the NEMD runs at the same point
+            assert point["strength"] == pytest.approx(points[("NEMD", g, profile, eta, n)]["mean"], rel=1e-12)
+    assert len(data["matched"]) == 3 and {r["num_particles"] for r in data["size_scan"]["rows"]} == {128, 256}
+    assert [m["friction"] for m in data["friction_scan"]["msd"]] == [4.5, 40.5]
+    report = (tmp_path / "out" / "report.md").read_text()
+    for heading in ("NEMD against Norton at matched strength", "Asymptotic variance", "against friction", "System size",
+                    "What this budget resolves"):
+        assert heading in report
+    for figure in data["figures"]:
+        assert (tmp_path / "out" / figure).stat().st_size > 10_000

@@ -220,12 +220,16 @@ def write_report(folder: Path, scenes: List[Scene], summaries: List[Dict], budge
                                                         "scenes": summaries}, indent=1))
     with open(folder / "results.csv", "w", newline="") as file:
         writer = csv.writer(file)
+        # The viscosity columns are empty for scenes without shear (Table 6's quantities otherwise).
         writer.writerow(["scene", "method", "step_size", "runs", "relative_error", "error_bar", "kinetic_temperature",
-                         "seconds_per_step", "unstable_at", "critical_step_size"])
+                         "seconds_per_step", "unstable_at", "critical_step_size", "shear_viscosity", "shear_viscosity_error_bar",
+                         "viscosity_relative_error", "viscosity_error_bar", "viscosity_critical_step_size"])
         for summary in summaries:
             for method, entry in summary["methods"].items():
                 for p in entry["points"]:
                     writer.writerow([summary["scene"], method, p["step_size"], p["runs"], p.get("relative_error"), p.get("error_bar"),
                                      p.get("kinetic_temperature"), entry["seconds_per_step"], entry["unstable_at"],
-                                     entry["critical_step_size"]])
+                                     entry["critical_step_size"], p.get("shear_viscosity"), p.get("shear_viscosity_error_bar"),
+                                     p.get("viscosity_relative_error"), p.get("viscosity_error_bar"),
+                                     entry.get("viscosity", {}).get("critical_step_size")])
     return folder / "report.md"

@@ -1,7 +1,8 @@
 """python -m openmmdpd.transport SCENE.toml --budget reduced --out DIR [--workers N | --scheduler ADDRESS]
 
-The runs go to a Dask cluster and are saved in DIR/runs/ as they finish; the same command again skips
-what is done."""
+The runs go to a Dask cluster and are saved in DIR/runs/BUDGET/ as they finish; the same command
+again skips what is done.  Two stages: first every NEMD and equilibrium run, then the Norton runs
+matched to them (the scene file states the rule)."""
 
 from __future__ import annotations
 
@@ -10,18 +11,13 @@ import sys
 import time
 from dataclasses import asdict
 from pathlib import Path
-from typing import List, Optional
+from typing import Dict, List, Optional
 
 from ..resumable_runs import add_cluster_arguments, dask_client, run_resumable
-from .report import summarize, write_report
-from .runner import Task, TaskResult, run_task
+from .plan import is_matched_norton, matched_responses, run_length, run_name, seed_of, tasks_of
+from .report import write_report
+from .runner import SeriesSummary, Task, TaskResult, run_task
 from .scene import TransportScene, load_transport_scene
-
-
-def run_name(task: Task) -> str:
-    """The file name of a run's saved result: unique per task."""
-    profile = task.profile or "none"
-    return f"{task.kind}/{profile}/friction{task.friction:g}_strength{task.strength:g}_run{task.run}"
 
 
 def encode_result(result: TaskResult) -> dict:
@@ -29,23 +25,14 @@ def encode_result(result: TaskResult) -> dict:
 
 
 def decode_result(data: dict) -> TaskResult:
-    return TaskResult(**{**data, "task": Task(**data["task"])})
+    series = {name: SeriesSummary(**values) for name, values in data.get("series", {}).items()}
+    return TaskResult(**{**data, "task": Task(**data["task"]), "series": series})
 
 
-def tasks_of(scene: TransportScene, runs: int) -> List[Task]:
-    first = scene.frictions[0]
-    tasks = []
-    for run in range(runs):
-        for g in scene.frictions:
-            tasks.append(Task("MSD", g, "", 0.0, run))
-            nemd = scene.nemd_forcings if g == first else scene.nemd_forcings[1:2]
-            norton = scene.norton_responses if g == first else scene.norton_responses[1:2]
-            tasks += [Task("NEMD", g, scene.mobility_profile, eta, run) for eta in nemd]
-            tasks += [Task("Norton", g, scene.mobility_profile, r, run) for r in norton]
-            for profile in scene.viscosity_profiles:
-                tasks.append(Task("NEMD", g, profile, scene.viscosity_nemd_forcing, run))
-                tasks.append(Task("Norton", g, profile, scene.viscosity_norton_response, run))
-    return tasks
+def _runs(scene: TransportScene, budget_name: str, tasks: List[Task], strengths: Dict[Task, float], seed: int):
+    budget = scene.budgets[budget_name]
+    return {run_name(task): (run_task, (scene.fluid, run_length(scene, budget, task), task, strengths[task], seed_of(seed, task)))
+            for task in tasks if task in strengths}
 
 
 def main(argv: Optional[List[str]] = None) -> int:
@@ -57,15 +44,22 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument("--seed", type=int, default=2024)
     args = parser.parse_args(argv)
     scene = load_transport_scene(args.scene)
+    if args.budget not in scene.budgets:
+        parser.error(f"--budget {args.budget!r}: the scene's budgets are {', '.join(scene.budgets)}")
     budget = scene.budgets[args.budget]
     start = time.perf_counter()
     tasks = tasks_of(scene, budget.runs)
-    runs = {run_name(task): (run_task, (scene, budget, task, args.seed + 7919 * task.run + k)) for k, task in enumerate(tasks)}
+    first = [t for t in tasks if not is_matched_norton(t)]
+    second = [t for t in tasks if is_matched_norton(t)]
+    folder = args.out / "runs" / args.budget
     with dask_client(args.workers, args.scheduler) as client:
-        results = run_resumable(client, runs, args.out / "runs" / args.budget, encode_result, decode_result, "transport runs")
-    summary = summarize(scene, budget, results)
+        stage1 = run_resumable(client, _runs(scene, args.budget, first, {t: t.strength for t in first}, args.seed),
+                               folder, encode_result, decode_result, "transport runs (NEMD, equilibrium)")
+        responses = matched_responses(second, {r.task: r for r in stage1})
+        stage2 = run_resumable(client, _runs(scene, args.budget, second, responses, args.seed),
+                               folder, encode_result, decode_result, "transport runs (Norton, matched)")
     command = "python -m openmmdpd.transport " + " ".join(sys.argv[1:] if argv is None else argv)
-    report = write_report(args.out, scene, args.budget, budget, summary, time.perf_counter() - start, command)
+    report = write_report(args.out, scene, args.budget, budget, stage1 + stage2, time.perf_counter() - start, command)
     print(report.read_text())
     return 0
 

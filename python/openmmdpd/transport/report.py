@@ -1,197 +1,103 @@
-"""Tables, plots (matplotlib) and data of a transport study."""
+"""The transport study's report (report.md with its figures) and data (results.json)."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Dict, List
+from typing import Dict, List, Sequence
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-import openmmdpd as dpd  # noqa: E402
-
-from .estimators import mobility_from_msd, nemd_coefficient, norton_coefficient, viscosity  # noqa: E402
-from .runner import TaskResult  # noqa: E402
-from .scene import TransportBudget, TransportScene  # noqa: E402
+from ..study.report import machine_description
+from .curves import asymptotic_variance_table, matched_table, plot_asymptotic_variance, plot_response_curves
+from .plan import run_length
+from .points import estimate_points
+from .runner import Task, TaskResult
+from .scans import friction_scan, size_scan
+from .scene import TransportBudget, TransportScene
 
 
-def _group(results: List[TaskResult]) -> Dict[tuple, List[TaskResult]]:
-    groups: Dict[tuple, List[TaskResult]] = {}
-    for result in results:
-        t = result.task
-        groups.setdefault((t.kind, t.friction, t.profile, t.strength), []).append(result)
-    return groups
+def _relative_errors(entries: Sequence[Dict], **criteria) -> List[float]:
+    return [e["error"] / abs(e["coefficient"]) for e in entries if all(e.get(k) == v for k, v in criteria.items()) and e["coefficient"]]
 
 
-def _estimate(kind: str, strength: float, runs: List[TaskResult], budget: TransportBudget):
-    series = [np.array(r.block_means) for r in runs if not r.failure]
-    if not series:
-        return None
-    estimate = (nemd_coefficient if kind == "NEMD" else norton_coefficient)(strength, series, budget.block_time)
-    return estimate
+def resolution_notes(scene: TransportScene, entries: Sequence[Dict], matched: Dict, scan: Dict, size: Dict) -> List[str]:
+    """What this budget's error bars can and cannot resolve, per figure, from the measured errors."""
+    def median_percent(values):
+        return f"{100 * float(np.median(values)):.0f} %" if values else "—"
+    notes = []
+    for friction in scene.curve_frictions:
+        mobility = _relative_errors(entries, friction=friction, method="NEMD", profile="ColourDrift")
+        weakest = [e for e in entries if e["friction"] == friction and e["profile"] == "sinusoidal" and e["method"] == "NEMD"]
+        weakest = min(weakest, key=lambda e: e["eta"]) if weakest else None
+        notes.append(f"- γ = {friction:g}: colour-drift mobility from NEMD to a median {median_percent(mobility)}; "
+                     + (f"U_1 from NEMD at the weakest sinusoidal forcing (η = {weakest['eta']:g}) to "
+                        f"{100 * weakest['error'] / abs(weakest['coefficient']):.0f} %; " if weakest else "")
+                     + "shear thinning smaller than these errors is not resolved.")
+    two_drifts = _relative_errors(entries, method="NEMD", profile="TwoDrifts")
+    if two_drifts:
+        notes.append(f"- Two drifts: R is one particle pair's velocity, so its noise is N/2 times the colour drift's per unit "
+                     f"signal; NEMD mobility errors have a median of {median_percent(two_drifts)} here.")
+    notes.append(f"- Matched NEMD/Norton: {matched['summary']}")
+    caged = [m["friction"] for m in scan["msd"] if m["msd_at_longest_lag"] < 1.0]
+    if caged:
+        notes.append(f"- MSD reference at γ = {', '.join(f'{g:g}' for g in caged)}: the mean squared displacement at the longest "
+                     "lag is below one particle diameter squared, so the fit still sees the caged, subdiffusive regime and "
+                     "underestimates D; longer runs (the full budget) are needed there.")
+    for key, fit in size["fits"].items():
+        notes.append(f"- {fit['label']}: exponent resolved to ±{fit['exponent_error']:.2f}.")
+    return notes
 
 
-def summarize(scene: TransportScene, budget: TransportBudget, results: List[TaskResult]) -> Dict:
-    groups = _group(results)
-    summary: Dict = {"scene": scene.name, "title": scene.title, "mobility": [], "msd": [], "viscosity": [], "failures": []}
-    for result in results:
-        if result.failure:
-            summary["failures"].append({"task": result.task.__dict__, "message": result.failure})
-    for (kind, friction, profile, strength), runs in sorted(groups.items(), key=lambda item: (item[0][0], item[0][1], item[0][2], item[0][3])):
-        if kind == "MSD":
-            ok = [r for r in runs if not r.failure]
-            if ok:
-                alpha, error = mobility_from_msd(np.array(ok[0].msd_times), [np.array(r.msd) for r in ok])
-                summary["msd"].append({"friction": friction, "mobility": alpha, "error": error,
-                                       "times": ok[0].msd_times, "msd": np.mean([r.msd for r in ok], axis=0).tolist()})
-            continue
-        estimate = _estimate(kind, strength, runs, budget)
-        if estimate is None:
-            continue
-        entry = {"method": kind, "friction": friction, "profile": profile, "strength": strength, "runs": len(runs),
-                 "block_means": [r.block_means for r in runs if not r.failure],
-                 "coefficient": estimate.value, "error": estimate.error, "mean": estimate.mean, "mean_error": estimate.mean_error,
-                 "asymptotic_variance": estimate.asymptotic_variance}
-        if profile == scene.mobility_profile:
-            summary["mobility"].append(entry)
-        else:
-            coefficient = dpd.ShearProfile(profile).getFirstFourierCoefficient()
-            nu, nu_error = viscosity(scene.density, coefficient, scene.box_height(), estimate.value, estimate.error)
-            entry.update(viscosity=nu, viscosity_error=nu_error)
-            summary["viscosity"].append(entry)
-    return summary
-
-
-def _fit_slope(x: np.ndarray, y: np.ndarray, error: np.ndarray) -> tuple:
-    """Weighted least squares through the origin: slope and its standard error."""
-    w = 1.0 / np.maximum(error, 1e-300) ** 2
-    slope = np.sum(w * x * y) / np.sum(w * x * x)
-    return float(slope), float(1.0 / np.sqrt(np.sum(w * x * x)))
-
-
-def plot_and_tabulate(scene: TransportScene, summary: Dict, folder: Path) -> List[str]:
-    lines: List[str] = []
-    friction = scene.frictions[0]
-    sweep = [e for e in summary["mobility"] if e["friction"] == friction]
-    nemd = sorted((e for e in sweep if e["method"] == "NEMD"), key=lambda e: e["strength"])
-    norton = sorted((e for e in sweep if e["method"] == "Norton"), key=lambda e: e["strength"])
-
-    # Response against forcing (Wu & Shang Figs. 1, 5): NEMD (eta, E[R]) and Norton (E[lambda], r).
-    figure, axes = plt.subplots(figsize=(6, 4.4))
-    fits = {}
-    if nemd:
-        x = np.array([e["strength"] for e in nemd]); y = np.array([e["mean"] for e in nemd]); dy = np.array([e["mean_error"] for e in nemd])
-        axes.errorbar(x, y, yerr=dy, fmt="o", capsize=3, label="NEMD: E[R] at forcing eta")
-        fits["NEMD"] = _fit_slope(x, y, dy)
-    if norton:
-        x = np.array([e["mean"] for e in norton]); dx = np.array([e["mean_error"] for e in norton]); y = np.array([e["strength"] for e in norton])
-        axes.errorbar(x, y, xerr=dx, fmt="s", capsize=3, label="Norton: response r at E[lambda]")
-        # r = alpha E[lambda]: fit E[lambda] = r / alpha, then invert.
-        inverse, inverse_error = _fit_slope(y, x, dx)
-        fits["Norton"] = (1.0 / inverse, inverse_error / inverse**2)
-    grid = np.linspace(0, max([e["strength"] for e in nemd] + [e["mean"] for e in norton] + [1e-9]), 50)
-    for method, (slope, _) in fits.items():
-        axes.plot(grid, slope * grid, "--", lw=1, label=f"{method} linear fit: slope {slope:.4f}")
-    axes.set_xlabel("forcing (eta, or E[lambda])")
-    axes.set_ylabel("response (E[R], or r)")
-    axes.set_title(f"{scene.title}\nmobility, {scene.mobility_profile}, gamma = {friction}", fontsize=9)
-    axes.legend(fontsize=7)
-    figure.tight_layout()
-    figure.savefig(folder / "mobility_response_vs_forcing.png", dpi=110)
-    plt.close(figure)
-
-    # Asymptotic variance of the mobility estimators against forcing (Figs. 4, 10), at every friction swept.
-    figure, axes = plt.subplots(figsize=(6, 4.4))
-    for e_list, method, forcing_of in ((nemd, "NEMD", lambda e: abs(e["strength"])), (norton, "Norton", lambda e: abs(e["mean"]))):
-        if e_list:
-            axes.loglog([forcing_of(e) for e in e_list], [e["asymptotic_variance"] for e in e_list], "o-", label=f"{method}, gamma = {friction}")
-    all_x = [abs(e["strength"]) for e in nemd] + [abs(e["mean"]) for e in norton]
-    all_y = [e["asymptotic_variance"] for e in nemd + norton]
-    if all_x:
-        guide = np.array([min(all_x), max(all_x)])
-        axes.loglog(guide, np.median(all_y) * (guide / np.median(all_x)) ** -2, "k--", lw=1, label="slope -2")
-    axes.set_xlabel("forcing (eta, or |E[lambda]|)")
-    axes.set_ylabel("asymptotic variance of the mobility estimator")
-    axes.set_title(scene.title, fontsize=9)
-    axes.legend(fontsize=7)
-    figure.tight_layout()
-    figure.savefig(folder / "asymptotic_variance_vs_forcing.png", dpi=110)
-    plt.close(figure)
-
-    # Mobility against friction (Fig. 3): NEMD, Norton at the second strength, and the MSD reference.
-    figure, axes = plt.subplots(figsize=(6, 4.4))
-    lines += ["### Mobility", "", f"Profile {scene.mobility_profile}. NEMD: alpha = E[R]/eta (eq. 9); Norton: alpha* = r/E[lambda] (eq. 16); "
-              "MSD: alpha = beta D, D = slope of MSD(t)/6 (eqs. 78-80).", "",
-              "| gamma | method | strength | mobility | error | asymptotic variance |", "|---|---|---|---|---|---|"]
-    for e in sorted(summary["mobility"], key=lambda e: (e["friction"], e["method"], e["strength"])):
-        lines.append(f"| {e['friction']} | {e['method']} | {e['strength']} | {e['coefficient']:.4f} | {e['error']:.4f} | {e['asymptotic_variance']:.4g} |")
-    for e in summary["msd"]:
-        lines.append(f"| {e['friction']} | MSD | — | {e['mobility']:.4f} | {e['error']:.4f} | — |")
-    for method, marker in (("NEMD", "o"), ("Norton", "s")):
-        picks = []
-        for g in scene.frictions:
-            candidates = sorted((e for e in summary["mobility"] if e["method"] == method and e["friction"] == g), key=lambda e: e["strength"])
-            if candidates:
-                picks.append(candidates[min(1, len(candidates) - 1)])
-        if picks:
-            axes.errorbar([e["friction"] for e in picks], [e["coefficient"] for e in picks], yerr=[e["error"] for e in picks],
-                          fmt=marker, capsize=3, label=method)
-    if summary["msd"]:
-        axes.errorbar([e["friction"] for e in summary["msd"]], [e["mobility"] for e in summary["msd"]],
-                      yerr=[e["error"] for e in summary["msd"]], fmt="k^", capsize=3, label="MSD reference")
-    axes.set_xscale("log")
-    axes.set_xlabel("friction gamma")
-    axes.set_ylabel("mobility")
-    axes.set_title(scene.title, fontsize=9)
-    axes.legend(fontsize=8)
-    figure.tight_layout()
-    figure.savefig(folder / "mobility_vs_friction.png", dpi=110)
-    plt.close(figure)
-    if fits:
-        lines += ["", "Mobility from the slope of response against forcing (all strengths, error-weighted fit through the origin): " +
-                  "; ".join(f"{m} {s:.4f} ± {ds:.4f}" for m, (s, ds) in fits.items())]
-
-    # Shear viscosity from the three profiles (eq. 87).
-    lines += ["", "### Shear viscosity", "", "nu = rho F_1 / U_1 (L_y / 2 pi)^2 (eq. 87), U_1 the response per unit forcing.", "",
-              "| gamma | profile | method | strength | viscosity | error |", "|---|---|---|---|---|---|"]
-    figure, axes = plt.subplots(figsize=(7, 4.4))
-    entries = sorted(summary["viscosity"], key=lambda e: (e["friction"], e["profile"], e["method"]))
-    labels = []
-    for k, e in enumerate(entries):
-        lines.append(f"| {e['friction']} | {e['profile']} | {e['method']} | {e['strength']} | {e['viscosity']:.4f} | {e['viscosity_error']:.4f} |")
-        axes.errorbar([k], [e["viscosity"]], yerr=[e["viscosity_error"]], fmt="o" if e["method"] == "NEMD" else "s", capsize=3,
-                      color="C0" if e["method"] == "NEMD" else "C1")
-        labels.append(f"{e['profile']}\n{e['method']}, γ={e['friction']}")
-    axes.set_xticks(range(len(labels)))
-    axes.set_xticklabels(labels, fontsize=6, rotation=60)
-    axes.set_ylabel("shear viscosity")
-    axes.set_title(scene.title, fontsize=9)
-    figure.tight_layout()
-    figure.savefig(folder / "viscosity_profiles.png", dpi=110)
-    plt.close(figure)
-    if summary["failures"]:
-        lines += ["", "### Runs that failed", ""] + [f"- {f['task']}: {f['message']}" for f in summary["failures"]]
-    summary["linear_fits"] = {m: {"slope": s, "error": ds} for m, (s, ds) in fits.items()}
-    return lines
-
-
-def write_report(folder: Path, scene: TransportScene, budget_name: str, budget: TransportBudget, summary: Dict,
+def write_report(folder: Path, scene: TransportScene, budget_name: str, budget: TransportBudget, results: Sequence[TaskResult],
                  elapsed: float, command: str) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
+    entries = estimate_points(scene, budget, results)
+    matched = matched_table(scene, entries)
+    variance = asymptotic_variance_table(scene, entries)
+    curves = plot_response_curves(scene, entries, folder) + plot_asymptotic_variance(scene, entries, folder)
+    friction = friction_scan(scene, entries, results, folder)
+    size = size_scan(scene, entries, results, folder)
+    failures = [{"task": r.task.__dict__, "message": r.failure} for r in results if r.failure]
+    machine = machine_description()
+    largest = run_length(scene, budget, Task("NEMD", scene.size_friction, "sinusoidal", 1.0, 0, max(scene.sizes)))
     lines = [f"# Transport coefficients: {scene.title}", "", f"Command: `{command}`  ",
-             f"Budget **{budget_name}**: {budget.runs} runs of {budget.time} time units after {budget.equilibration} of "
-             f"equilibration under forcing, block means over {budget.block_time} time units; ABOBA, dt = {scene.step_size}; "
-             f"CPU platform, one thread per run; wall time {elapsed / 60:.1f} min.", "",
-             "Error bars: standard errors of the mean over the independent runs, each run's from Flyvbjerg-Petersen "
-             "blocking of its block means (sec. 4.3). Asymptotic variance: total simulated time x squared standard "
-             "error of the estimator. results.json keeps every block mean.", ""]
-    lines += plot_and_tabulate(scene, summary, folder)
-    lines += ["", "![](mobility_response_vs_forcing.png)", "![](asymptotic_variance_vs_forcing.png)", "![](mobility_vs_friction.png)",
-              "![](viscosity_profiles.png)"]
+             f"Budget **{budget_name}**: {budget.runs} independent runs per point, each {budget.time:g} time units sampled after "
+             f"{budget.equilibration:g} of equilibration under forcing (forced runs of N > {scene.num_particles} are shortened "
+             f"in proportion: {largest.time:g} at N = {max(scene.sizes)}; equilibrium runs are not), block means over {budget.block_time:g}; ABOBA, "
+             f"Δt = {scene.step_size:g}; CPU platform, one thread per run; {len(results)} runs; wall time {elapsed / 60:.1f} min.", "",
+             f"Machine: {machine['processor']}, {machine['logical_cores']} logical cores, {machine['system']}; "
+             f"OpenMM {machine['openmm']}, Python {machine['python']}.", "",
+             "Estimators (Wu & Shang): NEMD E[R]/η (eq. 9), Norton r/E[λ] (eq. 16); the coefficient is the mobility for the "
+             "colour and two drifts and U_1 per unit forcing for a shear profile, whose viscosity is ν = ρ F_1/U_1 (L_y/2π)² "
+             "(eq. 87). Error bars: standard errors over the independent runs, each run's from Flyvbjerg–Petersen blocking "
+             "of its block means. Asymptotic variance: total sampled time × squared standard error. Matching rule: each "
+             "Norton run holds r = E_η[R] of its NEMD runs (same friction, profile and N), so the two methods sit at the "
+             "same point of the response curve.", "",
+             "## 1. NEMD against Norton at matched strength", "", *matched["lines"], "", matched["summary"], "",
+             "Response against forcing (log-log; dashed: the linear response of the weakest point, so a fall below it is "
+             "shear thinning) and the coefficient against forcing (flat where the response is linear):", "",
+             "![](response_curves.png)", "", "![](coefficient_curves.png)", "",
+             "## 2. Asymptotic variance against forcing (Figs. 4, 10)", "", *variance["lines"], "",
+             "![](asymptotic_variance_mobility.png)", "", "![](asymptotic_variance_viscosity.png)", "",
+             "## 3. Mobility and viscosity against friction (Figs. 3, 9)", "",
+             f"Colour drift at η = {scene.scan_mobility_forcing:g}, sinusoidal at η = {scene.scan_viscosity_forcing:g}, each with "
+             "its matched Norton run; MSD: α = βD from equilibrium runs (eqs. 78–80).", "", *friction["lines"], "",
+             "![](mobility_vs_friction.png)", "", "![](viscosity_vs_friction.png)", "",
+             f"## 4. System size at γ = {scene.size_friction:g} (Figs. 2, 6, 7, 8)", "",
+             f"F_1/U_1 from sinusoidal NEMD at η = {scene.size_forcing:g} (N/{scene.num_particles})^(−1/3) (so that the peak "
+             "shear rate, which grows as L_y η, is the same at every N: "
+             + ", ".join(f"η = {scene.size_forcing_of(n):g} at N = {n}" for n in scene.sizes) + ") and its matched Norton run; variances and "
+             "correlation times Θ (eqs. 91, 93, integrated to the first zero) of R at η = 0 and λ at r = 0, per step.", "",
+             *size["lines"], "", *(f"![]({name})" for name in size["figures"]), "",
+             "## What this budget resolves", "", *resolution_notes(scene, entries, matched, friction, size)]
+    if failures:
+        lines += ["", "## Runs that failed", ""] + [f"- {f['task']}: {f['message']}" for f in failures]
     (folder / "report.md").write_text("\n".join(lines) + "\n")
-    (folder / "results.json").write_text(json.dumps(summary, indent=1))
+    data = {"scene": scene.name, "title": scene.title, "budget": budget_name, "command": command, "machine": machine,
+            "points": entries, "matched": matched["rows"], "asymptotic_variance": variance["rows"],
+            "friction_scan": {"rows": friction["rows"], "msd": friction["msd"]},
+            "size_scan": {"rows": size["rows"], "fits": size["fits"], "series": size["series"]},
+            "failures": failures, "figures": curves + friction["figures"] + size["figures"]}
+    (folder / "results.json").write_text(json.dumps(data, indent=1))
     return folder / "report.md"
