@@ -74,7 +74,8 @@ demo: build
 study-full: build
 	$(PYTHON) -m openmmdpd.study $(SCENES) --budget full --out study-full
 
-# Transport coefficients (NEMD and Norton): about 8 minutes on 2 cores at the reduced budget.
+# The transport study (NEMD and matched Norton, friction and system-size scans): about 9 minutes on 2 cores
+# at the reduced budget.
 transport: build
 	$(PYTHON) -m openmmdpd.transport examples/scenes/transport_lj_fluid.toml --budget $(BUDGET) --out transport-report
 

@@ -14,7 +14,7 @@ import numpy as np  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 from scipy import stats  # noqa: E402
 
-from .points import fmt, matched_pair, select  # noqa: E402
+from .points import fmt, matched_pair, save_figure, select  # noqa: E402
 from .scene import MOBILITY_PROFILES, TransportScene  # noqa: E402
 
 STYLE = {"NEMD": dict(fmt="o", color="C0"), "Norton": dict(fmt="s", color="C1", mfc="none")}
@@ -66,13 +66,8 @@ def plot_response_curves(scene: TransportScene, entries: Sequence[Dict], folder:
                     ax.set_ylabel("response: E[R] (NEMD), r (Norton)" if quantity == "response" else "E[R]/η, r/E[λ]", fontsize=7)
                 if row == 0 and col == 0:
                     ax.legend(fontsize=6)
-        figure.suptitle(f"{scene.title}: " + ("response against forcing (Figs. 1, 5)" if quantity == "response" else
-                                              "coefficient against forcing: flat in the linear regime"), fontsize=9)
-        figure.tight_layout()
-        name = f"{quantity}_curves.png"
-        figure.savefig(folder / name, dpi=100)
-        plt.close(figure)
-        names.append(name)
+        names.append(save_figure(figure, folder / f"{quantity}_curves.png", f"{scene.title}: " + (
+            "response against forcing (Figs. 1, 5)" if quantity == "response" else "coefficient against forcing: flat in the linear regime")))
     return names
 
 
@@ -135,12 +130,7 @@ def plot_asymptotic_variance(scene: TransportScene, entries: Sequence[Dict], fol
             ax.set_xlabel("forcing: η (NEMD), |E[λ]| (Norton)")
             ax.set_ylabel(f"asymptotic variance of the {group} estimator")
             ax.legend(fontsize=6)
-        figure.suptitle(f"{scene.title}: asymptotic variance of the {title}", fontsize=9)
-        figure.tight_layout()
-        name = f"asymptotic_variance_{group}.png"
-        figure.savefig(folder / name, dpi=100)
-        plt.close(figure)
-        names.append(name)
+        names.append(save_figure(figure, folder / f"asymptotic_variance_{group}.png", f"{scene.title}: asymptotic variance of the {title}"))
     return names
 
 

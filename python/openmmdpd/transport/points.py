@@ -75,6 +75,17 @@ def weighted_power_law(x: Sequence[float], y: Sequence[float], y_error: Sequence
             "chi2": float(residual @ residual), "dof": int(len(lx) - 2)}
 
 
+def save_figure(figure, path, title: str) -> str:
+    """Title, lay out, write (100 dpi) and close a figure; returns the file's name."""
+    import matplotlib.pyplot as plt
+
+    figure.suptitle(title, fontsize=9)
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+    return path.name
+
+
 def fmt(value: float, error: float) -> str:
     """``value ± error`` with the error to two significant digits."""
     if not np.isfinite(error) or error <= 0:

@@ -15,7 +15,7 @@ import numpy as np  # noqa: E402
 from scipy.integrate import trapezoid  # noqa: E402
 
 from .estimators import mobility_from_msd  # noqa: E402
-from .points import fmt, matched_pair, weighted_power_law  # noqa: E402
+from .points import fmt, matched_pair, save_figure, weighted_power_law  # noqa: E402
 from .runner import TaskResult  # noqa: E402
 from .scene import TransportScene  # noqa: E402
 
@@ -84,16 +84,14 @@ def _plot_friction_scan(scene: TransportScene, rows: List[Dict], msd: List[Dict]
                                 yerr=[r[f"{method}_{'error' if key == 'coefficient' else 'viscosity_error'}"] for r in picks],
                                 capsize=3, label="NEMD" if method == "nemd" else "Norton", **style)
                 ax.set_ylabel("U_1 per unit forcing" if key == "coefficient" else "shear viscosity ν (eq. 87)")
-            ax.set_xscale("log")
-            if log:
-                ax.set_yscale("log")
+            if picks:
+                ax.set_xscale("log")
+                if log:
+                    ax.set_yscale("log")
             ax.set_xlabel("friction γ")
             ax.legend(fontsize=7)
-        figure.suptitle(f"{scene.title}: " + ("mobility against friction, colour drift (Fig. 3)" if quantity else
-                                              "sinusoidal forcing against friction (Fig. 9)"), fontsize=9)
-        figure.tight_layout()
-        figure.savefig(folder / name, dpi=100)
-        plt.close(figure)
+        save_figure(figure, folder / name, f"{scene.title}: " + ("mobility against friction, colour drift (Fig. 3)" if quantity else
+                                                                 "sinusoidal forcing against friction (Fig. 9)"))
 
 
 def _pooled_variance(runs: List[TaskResult], name: str):
@@ -141,12 +139,15 @@ def size_scan(scene: TransportScene, entries: Sequence[Dict], results: Sequence[
         if len(usable) >= 3:
             fits[key] = {"label": label, **weighted_power_law([r["num_particles"] for r in usable], [r[key] for r in usable],
                                                               [r[f"{key}_error"] for r in usable])}
-    lines = ["| N | F_1/U_1 NEMD | F_1/U_1 Norton | Var(R) sinusoidal | Var(λ) sinusoidal | Var(R) colour | Var(λ) colour | Θ(R) colour | Θ(λ) colour |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    # Equipartition fixes Var(R) at equilibrium: kT/(2 m N) for the sinusoidal profile (<sin^2> = 1/2),
+    # kT/m for the colour drift (|F| = 1); kT/m = 1 in the scene's reduced units.
+    lines = ["| N | F_1/U_1 NEMD | F_1/U_1 Norton | Var(R) sinusoidal | kT/(2mN) | Var(λ) sinusoidal | Var(R) colour | Var(λ) colour | "
+             "Θ(R) colour | Θ(λ) colour |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in table:
         def cell(key):
             return fmt(r[key], r[f"{key}_error"]) if key in r else "—"
         lines.append(f"| {r['num_particles']} | {cell('NEMD_estimator')} | {cell('Norton_estimator')} | {cell('var_R_sinusoidal')} | "
+                     f"{1 / (2 * r['num_particles']):.3g} | "
                      f"{cell('var_lambda_sinusoidal')} | {cell('var_R_ColourDrift')} | {cell('var_lambda_ColourDrift')} | "
                      f"{r.get('theta_R_ColourDrift', float('nan')):.3f} | {r.get('theta_lambda_ColourDrift', float('nan')):.3f} |")
     lines += ["", "| quantity | fitted exponent of N | χ²/dof | the paper |", "|---|---|---|---|"]
@@ -172,11 +173,8 @@ def _plot_size_scan(scene: TransportScene, table: List[Dict], fits: Dict, series
         ax.set_ylabel("normalised autocorrelation")
         ax.set_title(title, fontsize=9)
         ax.legend(fontsize=7)
-    figure.suptitle(f"{scene.title}: equilibrium autocorrelations, γ = {scene.size_friction:g} (Fig. 2)", fontsize=9)
-    figure.tight_layout()
-    figure.savefig(folder / "equilibrium_autocorrelation.png", dpi=100)
-    plt.close(figure)
-    names.append("equilibrium_autocorrelation.png")
+    names.append(save_figure(figure, folder / "equilibrium_autocorrelation.png",
+                             f"{scene.title}: equilibrium autocorrelations, γ = {scene.size_friction:g} (Fig. 2)"))
 
     figure, axes = plt.subplots(1, 2, figsize=(10, 4))
     for ax, log in zip(axes, (False, True)):
@@ -189,18 +187,14 @@ def _plot_size_scan(scene: TransportScene, table: List[Dict], fits: Dict, series
                 n = np.geomspace(min(scene.sizes), max(scene.sizes), 10)
                 ax.plot(n, fit["prefactor"] * n ** fit["exponent"], "--", color=style["color"], lw=0.8,
                         label=f"{method} fit: N^({fit['exponent']:.2f} ± {fit['exponent_error']:.2f})")
-        if log:
+        if log and any(f"{m}_estimator" in r for r in table for m in ("NEMD", "Norton")):
             ax.set_xscale("log")
             ax.set_yscale("log")
         ax.set_xlabel("N")
         ax.set_ylabel("F_1 / U_1")
         ax.legend(fontsize=7)
-    figure.suptitle(f"{scene.title}: estimator F_1/U_1 against N, sinusoidal, η = {scene.size_forcing:g} (N/{scene.num_particles})^(-1/3) "
-                    "(the same peak shear rate at every N) (Fig. 6)", fontsize=9)
-    figure.tight_layout()
-    figure.savefig(folder / "size_estimator.png", dpi=100)
-    plt.close(figure)
-    names.append("size_estimator.png")
+    names.append(save_figure(figure, folder / "size_estimator.png", f"{scene.title}: estimator F_1/U_1 against N, sinusoidal, "
+                             f"η = {scene.size_forcing:g} (N/{scene.num_particles})^(-1/3) (the same peak shear rate at every N) (Fig. 6)"))
 
     figure, axes = plt.subplots(1, 3, figsize=(15, 4))
     for ax, name, label in ((axes[0], "R_sinusoidal", "R (η = 0)"), (axes[1], "lambda_sinusoidal", "λ (r = 0)")):
@@ -218,14 +212,14 @@ def _plot_size_scan(scene: TransportScene, table: List[Dict], fits: Dict, series
             n = np.geomspace(min(scene.sizes), max(scene.sizes), 10)
             ax.plot(n, fits[key]["prefactor"] * n ** fits[key]["exponent"], "--", color=f"C{k}", lw=0.8,
                     label=f"fit: N^({fits[key]['exponent']:.2f} ± {fits[key]['exponent_error']:.2f})")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
+    if any("var_R_sinusoidal" in r for r in table):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
     ax.set_xlabel("N")
+    n = np.array(sorted(scene.sizes), dtype=float)
+    ax.plot(n, 1 / (2 * n), "k:", lw=1, label="equipartition kT/(2mN)")
     ax.set_ylabel("variance at equilibrium")
     ax.legend(fontsize=7)
-    figure.suptitle(f"{scene.title}: equilibrium fluctuations, sinusoidal profile, γ = {scene.size_friction:g} (Figs. 7, 8)", fontsize=9)
-    figure.tight_layout()
-    figure.savefig(folder / "size_fluctuations.png", dpi=100)
-    plt.close(figure)
-    names.append("size_fluctuations.png")
+    names.append(save_figure(figure, folder / "size_fluctuations.png",
+                             f"{scene.title}: equilibrium fluctuations, sinusoidal profile, γ = {scene.size_friction:g} (Figs. 7, 8)"))
     return names
