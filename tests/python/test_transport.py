@@ -196,6 +196,9 @@ block_time = 0.05
         if method == "Norton":  # stage 2 held r = E_eta[R] of the NEMD runs at the same point
             assert point["strength"] == pytest.approx(points[("NEMD", g, profile, eta, n)]["mean"], rel=1e-12)
     assert len(data["matched"]) == 3 and {r["num_particles"] for r in data["size_scan"]["rows"]} == {128, 256}
+    tests = data["matched_tests"]  # the two weakest strengths of each curve apart from the stronger ones
+    assert (tests["all"]["pairs"], tests["weak"]["pairs"], tests["strong"]["pairs"]) == (3, 3, 0)
+    assert tests["all"]["chi2"] == pytest.approx(sum(r["difference_sigma"] ** 2 for r in data["matched"]))
     assert [m["friction"] for m in data["friction_scan"]["msd"]] == [4.5, 40.5]
     report = (tmp_path / "out" / "report.md").read_text()
     for heading in ("NEMD against Norton at matched strength", "Asymptotic variance", "against friction", "System size",

@@ -95,7 +95,7 @@ def write_report(folder: Path, scene: TransportScene, budget_name: str, budget: 
         lines += ["", "## Runs that failed", ""] + [f"- {f['task']}: {f['message']}" for f in failures]
     (folder / "report.md").write_text("\n".join(lines) + "\n")
     data = {"scene": scene.name, "title": scene.title, "budget": budget_name, "command": command, "machine": machine,
-            "points": entries, "matched": matched["rows"], "asymptotic_variance": variance["rows"],
+            "points": entries, "matched": matched["rows"], "matched_tests": matched["tests"], "asymptotic_variance": variance["rows"],
             "friction_scan": {"rows": friction["rows"], "msd": friction["msd"]},
             "size_scan": {"rows": size["rows"], "fits": size["fits"], "series": size["series"]},
             "failures": failures, "figures": curves + friction["figures"] + size["figures"]}
