@@ -52,7 +52,7 @@ private:
     };
     /** A thread's scratch for one cell: its half stencil's particles at their shifted positions, the distance filter's hits, the cell's pair geometry. */
     struct CandidateSet {
-        std::vector<int> index, closeIndex;
+        std::vector<int> index;
         std::vector<int> image;
         std::vector<double> x, y, z, ex, ey, ez, forceMagnitude;
         void resize(int count, std::size_t maxPairs);

@@ -23,11 +23,10 @@ void CpuDPDPairEngine::CandidateSet::resize(int count, std::size_t maxPairs) {
             array->resize(2*count);
         index.resize(2*count);
         image.resize(2*count);
-        closeIndex.resize(2*count+16);
     }
-    if (ex.size() < maxPairs)
+    if (ex.size() < maxPairs+16)
         for (auto* array : {&ex, &ey, &ez, &forceMagnitude})
-            array->resize(2*maxPairs);
+            array->resize(2*maxPairs+16);
 }
 
 CpuDPDPairEngine::CpuDPDPairEngine(OpenMM::ThreadPool& threads)
@@ -48,6 +47,45 @@ void CpuDPDPairEngine::cellsOfThread(int color, int thread, int& begin, int& end
     begin = first+static_cast<int>(static_cast<long long>(count)*thread/numThreads);
     end = first+static_cast<int>(static_cast<long long>(count)*(thread+1)/numThreads);
 }
+
+namespace {
+
+constexpr std::size_t padding = 8;
+
+/**
+ * Conservative pair force a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3) of
+ * pairs [0, paddedPairs) of a cell, of which the first numPairs are real: magnitudes in one vector
+ * pass, then the scatter in pair order; returns the energy.  With one particle type (`uniform`) the
+ * table entries are loaded once instead of per pair: the same values, so the same bits.
+ */
+template <bool uniform>
+inline __attribute__((always_inline)) double addConservativeForces(std::size_t numPairs, std::size_t paddedPairs,
+        const int* __restrict pi, const int* __restrict pj, const double* __restrict ex, const double* __restrict ey,
+        const double* __restrict ez, const DPDTypePairTable::Compiled& repulsion, const double* __restrict inverseCutoffTable,
+        const int* __restrict type, double* __restrict magnitude, Vec3* __restrict forces) {
+    const double* __restrict strengthTable = repulsion.value.data();
+    const double* __restrict cutoffTable = repulsion.cutoff.data();
+    const int numTypes = repulsion.numTypes;
+    double energy = 0.0;
+#pragma omp simd reduction(+:energy)
+    for (std::size_t n = 0; n < paddedPairs; n++) {
+        double r2 = ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n];
+        double invR = 1.0/std::sqrt(r2);
+        int typePair = uniform ? 0 : type[pi[n]]*numTypes+type[pj[n]];
+        double cutoff = cutoffTable[typePair], inverseCutoff = inverseCutoffTable[typePair];
+        double strength = r2 < cutoff*cutoff && n < numPairs ? strengthTable[typePair] : 0.0, w = 1.0-r2*invR*inverseCutoff;
+        magnitude[n] = strength*(invR-inverseCutoff); // a w / r: times d gives a w e
+        energy += 0.5*strength*cutoff*w*w;
+    }
+    for (std::size_t n = 0; n < numPairs; n++) {
+        Vec3 force = Vec3(ex[n], ey[n], ez[n])*magnitude[n];
+        forces[pi[n]] += force;
+        forces[pj[n]] -= force;
+    }
+    return energy;
+}
+
+} // namespace
 
 __attribute__((target_clones("avx512f", "avx2", "default")))
 void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates) {
@@ -80,58 +118,39 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
         numCandidates += count;
     }
     std::size_t cellBegin = buffer.size;
-    buffer.reserveMore(maxPairs);
+    buffer.reserveMore(maxPairs+2*padding); // the filter writes up to 8 records past its hits, the force pass pads to 8
     double radius2 = radius*radius;
     double* __restrict ex = candidates.ex.data();
     double* __restrict ey = candidates.ey.data();
     double* __restrict ez = candidates.ez.data();
+    const CpuDPDDistanceFilter::Candidates run{candidates.x.data(), candidates.y.data(), candidates.z.data(),
+                                               candidates.index.data(), candidates.image.data()};
     for (int local = 0; local < numInCell; local++) {
         int a = firstOfCell+local;
         double q[3] = {sortedX[a], sortedY[a], sortedZ[a]};
-        int* close = candidates.closeIndex.data();
-        int numClose = CpuDPDDistanceFilter::findClose(candidates.x.data(), candidates.y.data(), candidates.z.data(), local+1,
-                                                       numCandidates, q, radius2, close);
-        std::size_t base = buffer.size;
-        for (int n = 0; n < numClose; n++) {
-            int k = close[n];
-            buffer.i[base+n] = a;
-            buffer.j[base+n] = candidates.index[k];
-            buffer.image[base+n] = candidates.image[k];
-            ex[base-cellBegin+n] = q[0]-candidates.x[k]; // the displacement d = q_a - (q_b + shift)
-            ey[base-cellBegin+n] = q[1]-candidates.y[k];
-            ez[base-cellBegin+n] = q[2]-candidates.z[k];
-        }
+        std::size_t base = buffer.size, offset = base-cellBegin;
+        // The displacement d = q_a - (q_b + shift) of each hit comes with it.
+        int numClose = CpuDPDDistanceFilter::findClose(run, local+1, numCandidates, q, radius2,
+                                                       {&buffer.j[base], &buffer.image[base], ex+offset, ey+offset, ez+offset});
+        std::fill(&buffer.i[base], &buffer.i[base]+numClose, a);
         buffer.size += numClose;
     }
     if (repulsion == nullptr)
         return;
-    // Conservative pair force a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3):
-    // magnitudes over the cell's pairs in one pass, then the scatter.
-    std::size_t numPairs = buffer.size-cellBegin;
-    double* __restrict magnitude = candidates.forceMagnitude.data();
-    const int* __restrict pi = buffer.i.data()+cellBegin;
-    const int* __restrict pj = buffer.j.data()+cellBegin;
-    const int* __restrict type = sortedRepulsionType.data();
-    const double* __restrict strengthTable = repulsion->value.data();
-    const double* __restrict cutoffTable = repulsion->cutoff.data();
-    const double* __restrict inverseCutoffTable = inverseRepulsionCutoff.data();
-    int numTypes = repulsion->numTypes;
-    double energy = 0.0;
-#pragma omp simd reduction(+:energy)
-    for (std::size_t n = 0; n < numPairs; n++) {
-        double r2 = ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n];
-        double invR = 1.0/std::sqrt(r2);
-        int typePair = type[pi[n]]*numTypes+type[pj[n]];
-        double cutoff = cutoffTable[typePair], inverseCutoff = inverseCutoffTable[typePair];
-        double strength = r2 < cutoff*cutoff ? strengthTable[typePair] : 0.0, w = 1.0-r2*invR*inverseCutoff;
-        magnitude[n] = strength*(invR-inverseCutoff); // a w / r: times d gives a w e
-        energy += 0.5*strength*cutoff*w*w;
+    // The force pass runs over whole vectors: the pairs are padded to a multiple of 8 with harmless
+    // ones (particle 0 with itself at distance 1, no strength), which add exactly zero.
+    std::size_t numPairs = buffer.size-cellBegin, paddedPairs = (numPairs+padding-1)/padding*padding;
+    for (std::size_t n = numPairs; n < paddedPairs; n++) {
+        buffer.i[cellBegin+n] = buffer.j[cellBegin+n] = 0;
+        ex[n] = 1.0;
+        ey[n] = ez[n] = 0.0;
     }
-    for (std::size_t n = 0; n < numPairs; n++) {
-        Vec3 force = Vec3(ex[n], ey[n], ez[n])*magnitude[n];
-        sortedForces[pi[n]] += force;
-        sortedForces[pj[n]] -= force;
-    }
+    const double* inverseCutoffs = inverseRepulsionCutoff.data();
+    double energy = repulsion->numTypes == 1 ?
+        addConservativeForces<true>(numPairs, paddedPairs, &buffer.i[cellBegin], &buffer.j[cellBegin], ex, ey, ez, *repulsion, inverseCutoffs,
+                                    sortedRepulsionType.data(), candidates.forceMagnitude.data(), sortedForces.data()) :
+        addConservativeForces<false>(numPairs, paddedPairs, &buffer.i[cellBegin], &buffer.j[cellBegin], ex, ey, ez, *repulsion, inverseCutoffs,
+                                     sortedRepulsionType.data(), candidates.forceMagnitude.data(), sortedForces.data());
     cellSum[cell] = energy;
 }
 
