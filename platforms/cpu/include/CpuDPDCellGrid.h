@@ -56,7 +56,7 @@ public:
     /** Sorted particle s is particle sortedToOriginal[s] of the System; cell c holds [cellStart[c], cellStart[c+1]). */
     std::vector<int> sortedToOriginal;
     std::vector<int> cellStart;
-    /** Wrapped positions in sorted order, one array per coordinate. */
+    /** Wrapped positions in sorted order, one array per coordinate, with 8 spare entries at the end. */
     std::vector<double> sortedX, sortedY, sortedZ;
     /** The lattice shift of each image code, one array per coordinate (nm). */
     double imageShiftX[27], imageShiftY[27], imageShiftZ[27];

@@ -89,9 +89,10 @@ void CpuDPDCellGrid::prepare(int numParticles, const Vec3* box, double radius) {
         layOut(box, radius);
     cellOfParticle.resize(numParticles);
     wrappedPositions.resize(numParticles);
-    sortedX.resize(numParticles);
-    sortedY.resize(numParticles);
-    sortedZ.resize(numParticles);
+    // 8 spare entries: the search copies a cell's particles 8 at a time, reading past the last.
+    sortedX.resize(numParticles+8);
+    sortedY.resize(numParticles+8);
+    sortedZ.resize(numParticles+8);
 }
 
 int CpuDPDCellGrid::locate(const std::vector<Vec3>& positions, int begin, int end) {

@@ -29,24 +29,33 @@ __attribute__((target("avx512f,avx512vl")))
 int findCloseAVX512(const Candidates& c, int first, int end, const double* q, double radius2, const Hits& hits) {
     const __m512d qx = _mm512_set1_pd(q[0]), qy = _mm512_set1_pd(q[1]), qz = _mm512_set1_pd(q[2]);
     const __m512d limit = _mm512_set1_pd(radius2), zero = _mm512_setzero_pd();
+    // Local copies: the stores below could otherwise alias the structs and force reloads.
+    const double* __restrict x = c.x;
+    const double* __restrict y = c.y;
+    const double* __restrict z = c.z;
+    const int* __restrict candidateIndex = c.index;
+    const int* __restrict candidateImage = c.image;
+    int* __restrict hitIndex = hits.index;
+    int* __restrict hitImage = hits.image;
+    double* __restrict hitX = hits.dx;
+    double* __restrict hitY = hits.dy;
+    double* __restrict hitZ = hits.dz;
     int numClose = 0;
     for (int k = first; k < end; k += 8) {
         __mmask8 valid = end-k >= 8 ? 0xff : static_cast<__mmask8>((1u << (end-k))-1);
-        __m512d dx = _mm512_sub_pd(qx, _mm512_maskz_loadu_pd(valid, c.x+k));
-        __m512d dy = _mm512_sub_pd(qy, _mm512_maskz_loadu_pd(valid, c.y+k));
-        __m512d dz = _mm512_sub_pd(qz, _mm512_maskz_loadu_pd(valid, c.z+k));
+        __m512d dx = _mm512_sub_pd(qx, _mm512_maskz_loadu_pd(valid, x+k));
+        __m512d dy = _mm512_sub_pd(qy, _mm512_maskz_loadu_pd(valid, y+k));
+        __m512d dz = _mm512_sub_pd(qz, _mm512_maskz_loadu_pd(valid, z+k));
         __m512d r2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
         __mmask8 hit = _mm512_mask_cmp_pd_mask(valid, r2, limit, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
-        if (hit == 0)
-            continue;
-        // Compressed in registers and stored whole (cheaper than a compressing store to memory);
-        // the lanes past the hits are overwritten by the next store or ignored.
-        __m256i index = _mm256_maskz_loadu_epi32(valid, c.index+k), image = _mm256_maskz_loadu_epi32(valid, c.image+k);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits.index+numClose), _mm256_maskz_compress_epi32(hit, index));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits.image+numClose), _mm256_maskz_compress_epi32(hit, image));
-        _mm512_storeu_pd(hits.dx+numClose, _mm512_maskz_compress_pd(hit, dx));
-        _mm512_storeu_pd(hits.dy+numClose, _mm512_maskz_compress_pd(hit, dy));
-        _mm512_storeu_pd(hits.dz+numClose, _mm512_maskz_compress_pd(hit, dz));
+        // Compressed in registers and stored whole (cheaper than a compressing store to memory, and
+        // no branch on the unpredictable hits); the lanes past the hits are overwritten or ignored.
+        __m256i index = _mm256_maskz_loadu_epi32(valid, candidateIndex+k), image = _mm256_maskz_loadu_epi32(valid, candidateImage+k);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(hitIndex+numClose), _mm256_maskz_compress_epi32(hit, index));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(hitImage+numClose), _mm256_maskz_compress_epi32(hit, image));
+        _mm512_storeu_pd(hitX+numClose, _mm512_maskz_compress_pd(hit, dx));
+        _mm512_storeu_pd(hitY+numClose, _mm512_maskz_compress_pd(hit, dy));
+        _mm512_storeu_pd(hitZ+numClose, _mm512_maskz_compress_pd(hit, dz));
         numClose += __builtin_popcount(hit);
     }
     return numClose;

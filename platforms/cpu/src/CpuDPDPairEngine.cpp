@@ -18,11 +18,11 @@ void CpuDPDPairEngine::PairBuffer::reserveMore(std::size_t count) {
 }
 
 void CpuDPDPairEngine::CandidateSet::resize(int count, std::size_t maxPairs) {
-    if (static_cast<int>(index.size()) < count) {
+    if (static_cast<int>(index.size()) < count+8) { // +8: the candidates are copied 8 at a time
         for (auto* array : {&x, &y, &z})
-            array->resize(2*count);
-        index.resize(2*count);
-        image.resize(2*count);
+            array->resize(2*count+8);
+        index.resize(2*count+8);
+        image.resize(2*count+8);
     }
     if (ex.size() < maxPairs+16)
         for (auto* array : {&ex, &ey, &ez, &forceMagnitude})
@@ -73,7 +73,8 @@ inline __attribute__((always_inline)) double addConservativeForces(std::size_t n
         double invR = 1.0/std::sqrt(r2);
         int typePair = uniform ? 0 : type[pi[n]]*numTypes+type[pj[n]];
         double cutoff = cutoffTable[typePair], inverseCutoff = inverseCutoffTable[typePair];
-        double strength = r2 < cutoff*cutoff && n < numPairs ? strengthTable[typePair] : 0.0, w = 1.0-r2*invR*inverseCutoff;
+        bool acts = (r2 < cutoff*cutoff) & (n < numPairs); // not &&: no branch, so the loop vectorises
+        double strength = acts ? strengthTable[typePair] : 0.0, w = 1.0-r2*invR*inverseCutoff;
         magnitude[n] = strength*(invR-inverseCutoff); // a w / r: times d gives a w e
         energy += 0.5*strength*cutoff*w*w;
     }
@@ -105,16 +106,27 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
     std::size_t maxPairs = static_cast<std::size_t>(numInCell)*numCandidates;
     candidates.resize(numCandidates, maxPairs);
     numCandidates = 0;
+    int* __restrict candidateIndex = candidates.index.data();
+    int* __restrict candidateImage = candidates.image.data();
+    double* __restrict candidateX = candidates.x.data();
+    double* __restrict candidateY = candidates.y.data();
+    double* __restrict candidateZ = candidates.z.data();
     for (const CpuDPDCellGrid::Neighbor& neighbor : stencil) {
         int begin = cellStart[neighbor.cell], count = cellStart[neighbor.cell+1]-begin;
         double shiftX = grid.imageShiftX[neighbor.image], shiftY = grid.imageShiftY[neighbor.image], shiftZ = grid.imageShiftZ[neighbor.image];
-        for (int k = 0; k < count; k++) {
-            candidates.index[numCandidates+k] = begin+k;
-            candidates.image[numCandidates+k] = neighbor.image;
-            candidates.x[numCandidates+k] = sortedX[begin+k]+shiftX;
-            candidates.y[numCandidates+k] = sortedY[begin+k]+shiftY;
-            candidates.z[numCandidates+k] = sortedZ[begin+k]+shiftZ;
-        }
+        // Eight at a time whatever the count (a cell holds ~3 particles at rho = 3): a fixed trip
+        // count is one vector step with no mispredicted loop exit; the extra entries are overwritten
+        // by the next neighbour or lie past the candidates.
+        for (int first = 0; first < count; first += 8)
+#pragma omp simd
+            for (int k = 0; k < 8; k++) {
+                int n = numCandidates+first+k, s = begin+first+k;
+                candidateIndex[n] = s;
+                candidateImage[n] = neighbor.image;
+                candidateX[n] = sortedX[s]+shiftX;
+                candidateY[n] = sortedY[s]+shiftY;
+                candidateZ[n] = sortedZ[s]+shiftZ;
+            }
         numCandidates += count;
     }
     std::size_t cellBegin = buffer.size;
@@ -227,16 +239,29 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
     sortedInverseMass.resize(numParticles);
     if (sweep.stress != nullptr)
         cellStress.resize(grid.getNumCells());
-    CpuDPDPairUpdateBlock::Particles particles{grid.sortedToOriginal.data(), sortedFrictionType.data(), sortedInverseMass.data(),
-                                               grid.sortedX.data(), grid.sortedY.data(), grid.sortedZ.data(),
-                                               grid.imageShiftX, grid.imageShiftY, grid.imageShiftZ};
+    uniformMassOfThread.assign(numThreads, 1);
+    uniformInverseMass = numParticles > 0 ? sweep.inverseMasses[0] : 0.0;
     onThreads([&](int thread) {
         int firstParticle = particleRangeBegin(thread, numParticles), lastParticle = particleRangeBegin(thread+1, numParticles);
-        for (int s = firstParticle; s < lastParticle; s++) {
-            int original = grid.sortedToOriginal[s];
-            sortedFrictionType[s] = sweep.friction.particleTypeIndex[original];
-            sortedInverseMass[s] = sweep.inverseMasses[original];
-        }
+        // One friction type and one mass (the usual DPD fluid): the pass needs no per-particle parameters.
+        const double* inverseMass = sweep.inverseMasses.data();
+        bool sameMass = true;
+        for (int i = firstParticle; i < lastParticle; i++)
+            sameMass &= inverseMass[i] == uniformInverseMass;
+        uniformMassOfThread[thread] = sameMass;
+        barrier.wait();
+        bool uniform = sweep.friction.numTypes == 1 && std::all_of(uniformMassOfThread.begin(), uniformMassOfThread.end(), [](char same) { return same != 0; });
+        if (thread == 0)
+            uniformSweep = uniform; // read by apply() only after the barrier below
+        if (!uniform)
+            for (int s = firstParticle; s < lastParticle; s++) {
+                int original = grid.sortedToOriginal[s];
+                sortedFrictionType[s] = sweep.friction.particleTypeIndex[original];
+                sortedInverseMass[s] = inverseMass[original];
+            }
+        CpuDPDPairUpdateBlock::Particles particles{grid.sortedToOriginal.data(), uniform, uniformInverseMass, sortedFrictionType.data(),
+                                                   sortedInverseMass.data(), grid.sortedX.data(), grid.sortedY.data(), grid.sortedZ.data(),
+                                                   grid.imageShiftX, grid.imageShiftY, grid.imageShiftZ};
         gather(firstParticle, lastParticle);
         barrier.wait();
         PairBuffer& buffer = buffers[thread];
@@ -291,8 +316,11 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
                 sortedResponse[s] = (*response)[original[s]];
     };
     // The plain sweep (no shear, stress or Norton) is the hot loop: compiled on its own, without them.
-    auto sweepCell = [&](auto plain, int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
+    auto sweepCell = [&](auto plain, auto uniform, int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block,
+                         int blockStart) {
         constexpr bool extras = !decltype(plain)::value;
+        const double* inverseMass = sortedInverseMass.data();
+        const double uniformInverseMass = this->uniformInverseMass;
         const PairBuffer& pairs = buffers[thread];
         DPDPairStressSums* stress = extras ? cellStressOf(sweep, cell) : nullptr;
         double responseOfDissipation = 0.0;
@@ -303,8 +331,8 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             if (extras)
                 u += leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
             double deltaP = block.slope[n]*u + block.offset[n]; // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
-            sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
-            sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
+            sortedVelocities[a] += e*(deltaP*(uniform ? uniformInverseMass : inverseMass[a]));
+            sortedVelocities[b] -= e*(deltaP*(uniform ? uniformInverseMass : inverseMass[b]));
             if (extras && stress != nullptr)
                 addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
             if (extras && response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
@@ -314,10 +342,14 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     };
     bool plain = sweep.shearRate == 0.0 && sweep.stress == nullptr && response == nullptr;
     auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
-        if (plain)
-            sweepCell(std::true_type(), thread, cell, first, last, block, blockStart);
+        if (plain && uniformSweep)
+            sweepCell(std::true_type(), std::true_type(), thread, cell, first, last, block, blockStart);
+        else if (plain)
+            sweepCell(std::true_type(), std::false_type(), thread, cell, first, last, block, blockStart);
+        else if (uniformSweep)
+            sweepCell(std::false_type(), std::true_type(), thread, cell, first, last, block, blockStart);
         else
-            sweepCell(std::false_type(), thread, cell, first, last, block, blockStart);
+            sweepCell(std::false_type(), std::false_type(), thread, cell, first, last, block, blockStart);
     };
     auto scatter = [&](int begin, int end) {
         for (int s = begin; s < end; s++)
