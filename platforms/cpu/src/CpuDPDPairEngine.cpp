@@ -1,4 +1,5 @@
 #include "CpuDPDPairEngine.h"
+#include "CpuDPDConservativeForce.h"
 #include "CpuDPDDistanceFilter.h"
 #include "DPDPairFormulas.h"
 #include <algorithm>
@@ -51,40 +52,6 @@ void CpuDPDPairEngine::cellsOfThread(int color, int thread, int& begin, int& end
 namespace {
 
 constexpr std::size_t padding = 8;
-
-/**
- * Conservative pair force a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3) of
- * pairs [0, paddedPairs) of a cell, of which the first numPairs are real: magnitudes in one vector
- * pass, then the scatter in pair order; returns the energy.  With one particle type (`uniform`) the
- * table entries are loaded once instead of per pair: the same values, so the same bits.
- */
-template <bool uniform>
-inline __attribute__((always_inline)) double addConservativeForces(std::size_t numPairs, std::size_t paddedPairs,
-        const int* __restrict pi, const int* __restrict pj, const double* __restrict ex, const double* __restrict ey,
-        const double* __restrict ez, const DPDTypePairTable::Compiled& repulsion, const double* __restrict inverseCutoffTable,
-        const int* __restrict type, double* __restrict magnitude, Vec3* __restrict forces) {
-    const double* __restrict strengthTable = repulsion.value.data();
-    const double* __restrict cutoffTable = repulsion.cutoff.data();
-    const int numTypes = repulsion.numTypes;
-    double energy = 0.0;
-#pragma omp simd reduction(+:energy)
-    for (std::size_t n = 0; n < paddedPairs; n++) {
-        double r2 = ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n];
-        double invR = 1.0/std::sqrt(r2);
-        int typePair = uniform ? 0 : type[pi[n]]*numTypes+type[pj[n]];
-        double cutoff = cutoffTable[typePair], inverseCutoff = inverseCutoffTable[typePair];
-        bool acts = (r2 < cutoff*cutoff) & (n < numPairs); // not &&: no branch, so the loop vectorises
-        double strength = acts ? strengthTable[typePair] : 0.0, w = 1.0-r2*invR*inverseCutoff;
-        magnitude[n] = strength*(invR-inverseCutoff); // a w / r: times d gives a w e
-        energy += 0.5*strength*cutoff*w*w;
-    }
-    for (std::size_t n = 0; n < numPairs; n++) {
-        Vec3 force = Vec3(ex[n], ey[n], ez[n])*magnitude[n];
-        forces[pi[n]] += force;
-        forces[pj[n]] -= force;
-    }
-    return energy;
-}
 
 } // namespace
 
@@ -157,12 +124,9 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
         ex[n] = 1.0;
         ey[n] = ez[n] = 0.0;
     }
-    const double* inverseCutoffs = inverseRepulsionCutoff.data();
-    double energy = repulsion->numTypes == 1 ?
-        addConservativeForces<true>(numPairs, paddedPairs, &buffer.i[cellBegin], &buffer.j[cellBegin], ex, ey, ez, *repulsion, inverseCutoffs,
-                                    sortedRepulsionType.data(), candidates.forceMagnitude.data(), sortedForces.data()) :
-        addConservativeForces<false>(numPairs, paddedPairs, &buffer.i[cellBegin], &buffer.j[cellBegin], ex, ey, ez, *repulsion, inverseCutoffs,
-                                     sortedRepulsionType.data(), candidates.forceMagnitude.data(), sortedForces.data());
+    const CpuDPDConservativeForce::Table table{repulsion, inverseRepulsionCutoff.data(), sortedRepulsionType.data()};
+    double energy = CpuDPDConservativeForce::add(numPairs, paddedPairs, &buffer.i[cellBegin], &buffer.j[cellBegin], ex, ey, ez, table,
+                                                 candidates.forceMagnitude.data(), sortedForces.data());
     cellSum[cell] = energy;
 }
 
