@@ -37,6 +37,8 @@ public:
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
+    /** On the thread pool when every thread gets enough particles to pay for the hand-over; else at once. */
+    void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) override;
 
 private:
     /**

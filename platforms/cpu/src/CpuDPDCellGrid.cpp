@@ -87,6 +87,7 @@ void CpuDPDCellGrid::prepare(int numParticles, const Vec3* box, double radius) {
     sortedToOriginal.resize(numParticles);
     if (radius != layoutRadius || box[0] != boxVectors[0] || box[1] != boxVectors[1] || box[2] != boxVectors[2])
         layOut(box, radius);
+    cellStart.resize(getNumCells()+1);
     cellOfParticle.resize(numParticles);
     wrappedPositions.resize(numParticles);
     // 8 spare entries: the search copies a cell's particles 8 at a time, reading past the last.
@@ -133,6 +134,47 @@ void CpuDPDCellGrid::sortByCell() {
     fill.assign(cellStart.begin(), cellStart.end()-1);
     for (int i = 0; i < numParticles; i++)
         sortedToOriginal[fill[cellOfParticle[i]]++] = i;
+}
+
+void CpuDPDCellGrid::countByCell(int thread, int begin, int end) {
+    std::vector<int>& count = threadSlots[thread];
+    count.assign(getNumCells(), 0);
+    for (int i = begin; i < end; i++)
+        count[cellOfParticle[i]]++;
+}
+
+void CpuDPDCellGrid::sumCellBlock(int thread) {
+    int first, last, total = 0;
+    cellBlock(thread, first, last);
+    for (const std::vector<int>& count : threadSlots)
+        for (int cell = first; cell < last; cell++)
+            total += count[cell];
+    blockTotal[thread] = total;
+}
+
+void CpuDPDCellGrid::placeCellBlock(int thread) {
+    // A cell's particles are those of thread 0, then thread 1 ..., each in System order: the order
+    // of the serial sort.
+    int first, last, slot = 0;
+    cellBlock(thread, first, last);
+    for (int t = 0; t < thread; t++)
+        slot += blockTotal[t];
+    for (int cell = first; cell < last; cell++) {
+        cellStart[cell] = slot;
+        for (std::vector<int>& count : threadSlots) {
+            int particles = count[cell];
+            count[cell] = slot;
+            slot += particles;
+        }
+    }
+    if (thread == static_cast<int>(threadSlots.size())-1)
+        cellStart[getNumCells()] = static_cast<int>(cellOfParticle.size());
+}
+
+void CpuDPDCellGrid::scatterByCell(int thread, int begin, int end) {
+    int* slot = threadSlots[thread].data();
+    for (int i = begin; i < end; i++)
+        sortedToOriginal[slot[cellOfParticle[i]]++] = i;
 }
 
 void CpuDPDCellGrid::gatherSortedPositions(int begin, int end) {

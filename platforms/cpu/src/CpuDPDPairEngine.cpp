@@ -43,6 +43,20 @@ void CpuDPDPairEngine::onThreads(const std::function<void(int)>& body) {
     threads.waitForThreads();
 }
 
+void CpuDPDPairEngine::forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) {
+    // A kick or drift costs a few ns a particle, a hand-over to the pool tens of microseconds.
+    const int minParticlesPerThread = 8192;
+    int useThreads = threads.getNumThreads();
+    if (useThreads == 1 || count < 2*minParticlesPerThread) {
+        body(0, count);
+        return;
+    }
+    threads.execute([&](OpenMM::ThreadPool&, int thread) {
+        body(static_cast<int>(static_cast<long long>(count)*thread/useThreads), static_cast<int>(static_cast<long long>(count)*(thread+1)/useThreads));
+    });
+    threads.waitForThreads();
+}
+
 void CpuDPDPairEngine::cellsOfThread(int color, int thread, int& begin, int& end) const {
     int first = grid.colorStart[color], count = grid.colorStart[color+1]-first;
     begin = first+static_cast<int>(static_cast<long long>(count)*thread/numThreads);
@@ -152,6 +166,7 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
             inverseRepulsionCutoff[k] = 1.0/repulsion->cutoff[k];
     }
     nonFinite.assign(numThreads, -1);
+    grid.setNumThreads(numThreads);
     onThreads([&](int thread) {
         int first = particleRangeBegin(thread, numParticles), last = particleRangeBegin(thread+1, numParticles);
         nonFinite[thread] = grid.locate(positions, first, last);
@@ -159,8 +174,17 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
         for (int bad : nonFinite)
             if (bad >= 0)
                 return; // thrown below, outside the threads
-        if (thread == 0)
+        if (numThreads == 1)
             grid.sortByCell();
+        else { // the same counting sort in parallel phases
+            grid.countByCell(thread, first, last);
+            barrier.wait();
+            grid.sumCellBlock(thread);
+            barrier.wait();
+            grid.placeCellBlock(thread);
+            barrier.wait();
+            grid.scatterByCell(thread, first, last);
+        }
         barrier.wait();
         grid.gatherSortedPositions(first, last);
         if (repulsion != nullptr)
