@@ -20,23 +20,44 @@ inline __attribute__((always_inline)) double addForces(std::size_t numPairs, std
     const double* __restrict inverseCutoffTable = table.inverseCutoff;
     const int* __restrict type = table.sortedType;
     const int numTypes = table.repulsion->numTypes;
-    double energy = 0.0;
-#pragma omp simd reduction(+:energy)
-    for (std::size_t n = 0; n < paddedPairs; n++) {
-        double r2 = ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n];
-        double invR = 1.0/std::sqrt(r2);
-        int typePair = uniform ? 0 : type[pi[n]]*numTypes+type[pj[n]];
-        double cutoff = cutoffTable[typePair], inverseCutoff = inverseCutoffTable[typePair];
-        bool acts = (r2 < cutoff*cutoff) & (n < numPairs); // not &&: no branch, so the loop vectorises
-        double strength = acts ? strengthTable[typePair] : 0.0, w = 1.0-r2*invR*inverseCutoff;
-        magnitude[n] = strength*(invR-inverseCutoff); // a w / r: times d gives a w e
-        energy += 0.5*strength*cutoff*w*w;
+    // Blocks of exactly 8 pairs: one vector step each, where a loop of unknown count would run its
+    // scalar remainder (and below GCC's profitability threshold, the whole of a cell's ~20 pairs).
+    double energyOfLane[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (std::size_t first = 0; first < paddedPairs; first += 8) {
+#pragma omp simd
+        for (int lane = 0; lane < 8; lane++) {
+            std::size_t n = first+lane;
+            double r2 = ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n];
+            double invR = 1.0/std::sqrt(r2);
+            int typePair = uniform ? 0 : type[pi[n]]*numTypes+type[pj[n]];
+            double cutoff = cutoffTable[typePair], inverseCutoff = inverseCutoffTable[typePair];
+            // A product, not a conditional load (which keeps GCC from vectorising): a or +-0.
+            double acts = static_cast<double>((r2 < cutoff*cutoff) & (n < numPairs));
+            double strength = strengthTable[typePair]*acts, w = 1.0-r2*invR*inverseCutoff;
+            magnitude[n] = strength*(invR-inverseCutoff); // a w / r: times d gives a w e
+            energyOfLane[lane] += 0.5*strength*cutoff*w*w;
+        }
     }
+    double energy = 0.0;
+    for (double laneEnergy : energyOfLane)
+        energy += laneEnergy;
+    // The pairs come in runs of one particle a (the cell's particles in turn): its force is summed in
+    // registers through the run, in the same order as through memory (j is never a).
+    if (numPairs == 0)
+        return energy;
+    int current = pi[0];
+    Vec3 forceOfCurrent = forces[current];
     for (std::size_t n = 0; n < numPairs; n++) {
+        if (pi[n] != current) {
+            forces[current] = forceOfCurrent;
+            current = pi[n];
+            forceOfCurrent = forces[current];
+        }
         Vec3 force = Vec3(ex[n], ey[n], ez[n])*magnitude[n];
-        forces[pi[n]] += force;
+        forceOfCurrent += force;
         forces[pj[n]] -= force;
     }
+    forces[current] = forceOfCurrent;
     return energy;
 }
 

@@ -312,20 +312,34 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
         const PairBuffer& pairs = buffers[thread];
         DPDPairStressSums* stress = extras ? cellStressOf(sweep, cell) : nullptr;
         double responseOfDissipation = 0.0;
+        // A cell's pairs come in runs of one particle a (its pairs with the particles after it): v_a
+        // stays in registers through its run instead of a store and reload per pair, which the
+        // successive update would wait for.  The same operations in the same order: the same bits
+        // (b is never a, so no pair reads a stale v_a).
+        Vec3* velocity = sortedVelocities.data();
+        int current = first < last ? pairs.i[first] : 0;
+        Vec3 va = first < last ? velocity[current] : Vec3();
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
+            if (a != current) {
+                velocity[current] = va;
+                current = a;
+                va = velocity[a];
+            }
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
-            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]);
+            double u = e.dot(va-velocity[b]);
             if (extras)
                 u += leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
             double deltaP = block.slope[n]*u + block.offset[n]; // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
-            sortedVelocities[a] += e*(deltaP*(uniform ? uniformInverseMass : inverseMass[a]));
-            sortedVelocities[b] -= e*(deltaP*(uniform ? uniformInverseMass : inverseMass[b]));
+            va += e*(deltaP*(uniform ? uniformInverseMass : inverseMass[a]));
+            velocity[b] -= e*(deltaP*(uniform ? uniformInverseMass : inverseMass[b]));
             if (extras && stress != nullptr)
                 addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
             if (extras && response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
                 responseOfDissipation += block.slope[n]*u*e.dot(sortedResponse[a]-sortedResponse[b]);
         }
+        if (first < last)
+            velocity[current] = va;
         cellSum[cell] = responseOfDissipation;
     };
     bool plain = sweep.shearRate == 0.0 && sweep.stress == nullptr && response == nullptr;
