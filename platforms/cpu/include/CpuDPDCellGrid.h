@@ -76,6 +76,7 @@ public:
 private:
     void layOut(const OpenMM::Vec3* box, double radius);
     int cellsPerAxis[3] = {0, 0, 0};
+    int interiorOffset[halfStencilSize] = {};  // the half stencil of a cell that wraps on no axis, as index offsets
     OpenMM::Vec3 boxVectors[3];
     double layoutRadius = -1.0;
     std::vector<int> cellOfParticle, fill;

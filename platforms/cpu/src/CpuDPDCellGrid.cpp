@@ -46,6 +46,12 @@ void CpuDPDCellGrid::layOut(const Vec3* box, double radius) {
     int numCells = cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2];
     for (int k = 0; k < 3; k++)
         boxVectors[k] = box[k];
+    // The half stencil of a cell away from the faces, as index offsets, in getHalfStencil's order.
+    int count = 1;
+    for (int dz = 0; dz <= 1; dz++)
+        for (int dy = (dz == 0 ? 0 : -1); dy <= 1; dy++)
+            for (int dx = (dz == 0 && dy == 0 ? 1 : -1); dx <= 1; dx++)
+                interiorOffset[count++] = (dz*cellsPerAxis[1]+dy)*cellsPerAxis[0]+dx;
     layoutRadius = radius;
     for (int image = 0; image < 27; image++) {
         Vec3 shift = box[0]*imageIndex(image, 0)+box[1]*imageIndex(image, 1)+box[2]*imageIndex(image, 2);
@@ -260,8 +266,13 @@ void CpuDPDCellGrid::throwNonFinite(const std::vector<Vec3>& positions, int part
 
 void CpuDPDCellGrid::getHalfStencil(int cell, Neighbor stencil[halfStencilSize]) const {
     int nx = cellsPerAxis[0], ny = cellsPerAxis[1], nz = cellsPerAxis[2];
-    int x = cell%nx, y = (cell/nx)%ny, z = cell/(nx*ny);
+    int layer = cell/nx, x = cell-layer*nx, z = layer/ny, y = layer-z*ny;
     stencil[0] = {cell, unshiftedImage};
+    if (x >= 1 && x < nx-1 && y >= 1 && y < ny-1 && z < nz-1) { // no wrap (most cells): fixed index offsets
+        for (int k = 1; k < halfStencilSize; k++)
+            stencil[k] = {cell+interiorOffset[k], unshiftedImage};
+        return;
+    }
     int count = 1;
     for (int dz = 0; dz <= 1; dz++)
         for (int dy = (dz == 0 ? 0 : -1); dy <= 1; dy++)
