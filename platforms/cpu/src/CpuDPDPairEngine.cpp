@@ -187,11 +187,12 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
         }
         barrier.wait();
         grid.gatherSortedPositions(first, last);
-        if (repulsion != nullptr)
-            for (int s = first; s < last; s++) {
-                sortedRepulsionType[s] = repulsion->particleTypeIndex[grid.sortedToOriginal[s]];
-                sortedForces[s] = Vec3();
-            }
+        if (repulsion != nullptr) {
+            std::fill(sortedForces.begin()+first, sortedForces.begin()+last, Vec3());
+            if (repulsion->numTypes > 1) // with one type the force pass reads no types
+                for (int s = first; s < last; s++)
+                    sortedRepulsionType[s] = repulsion->particleTypeIndex[grid.sortedToOriginal[s]];
+        }
         barrier.wait();
         PairBuffer& buffer = buffers[thread];
         buffer.size = 0;
