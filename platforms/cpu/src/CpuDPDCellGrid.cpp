@@ -107,8 +107,10 @@ namespace {
 /**
  * Fractional coordinates in OpenMM's lower-triangular box: f_c = z/c_z, f_b = (y - f_c c_y)/b_y,
  * f_a = (x - f_b b_x - f_c c_x)/a_x, each reduced into [0, 1) with the position (subtracting floor(f)
- * times that box vector).  Written out per axis, with no branch, so the loop vectorises; the file is
- * compiled without contraction (-ffp-contract=off), so every instruction set gives the same bits.
+ * times that box vector).  Written out per axis with no branch (GCC 12 still keeps the loop scalar
+ * under a target attribute, but inlines floor as one rounding instruction where the plain build calls
+ * a function); the file is compiled without contraction (-ffp-contract=off), so every instruction set
+ * gives the same bits.
  */
 inline __attribute__((always_inline)) void locateFinite(const OpenMM::Vec3* box, const int* cells, const double* __restrict in,
                                                         int begin, int end, double* __restrict out, int* __restrict cellOf) {
