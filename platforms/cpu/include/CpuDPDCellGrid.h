@@ -44,6 +44,16 @@ public:
     void prepare(int numParticles, const OpenMM::Vec3* box, double radius);
     int locate(const std::vector<OpenMM::Vec3>& positions, int begin, int end);
     void sortByCell();
+    /**
+     * sortByCell on several threads, with the same result (a stable counting sort): every thread t
+     * of numThreads calls the four phases in turn, for its particles [begin, end) (consecutive ranges
+     * in thread order), with a barrier between phases; setNumThreads first, outside the threads.
+     */
+    void setNumThreads(int numThreads) { threadSlots.resize(numThreads); blockTotal.resize(numThreads); }
+    void countByCell(int thread, int begin, int end);
+    void sumCellBlock(int thread);
+    void placeCellBlock(int thread);
+    void scatterByCell(int thread, int begin, int end);
     void gatherSortedPositions(int begin, int end);
     /** The OpenMMException for a particle whose position is not finite. */
     [[noreturn]] static void throwNonFinite(const std::vector<OpenMM::Vec3>& positions, int particle);
@@ -56,7 +66,7 @@ public:
     /** Sorted particle s is particle sortedToOriginal[s] of the System; cell c holds [cellStart[c], cellStart[c+1]). */
     std::vector<int> sortedToOriginal;
     std::vector<int> cellStart;
-    /** Wrapped positions in sorted order, one array per coordinate. */
+    /** Wrapped positions in sorted order, one array per coordinate, with 8 spare entries at the end. */
     std::vector<double> sortedX, sortedY, sortedZ;
     /** The lattice shift of each image code, one array per coordinate (nm). */
     double imageShiftX[27], imageShiftY[27], imageShiftZ[27];
@@ -66,9 +76,18 @@ public:
 private:
     void layOut(const OpenMM::Vec3* box, double radius);
     int cellsPerAxis[3] = {0, 0, 0};
+    int interiorOffset[halfStencilSize] = {};  // the half stencil of a cell that wraps on no axis, as index offsets
     OpenMM::Vec3 boxVectors[3];
     double layoutRadius = -1.0;
     std::vector<int> cellOfParticle, fill;
+    std::vector<std::vector<int>> threadSlots; // per thread and cell: its particle count, then its first slot
+    std::vector<int> blockTotal;               // per thread: the particles in its block of cells
+    /** The block of cells [begin, end) whose offsets a thread computes. */
+    void cellBlock(int thread, int& begin, int& end) const {
+        long long numCells = getNumCells(), numThreads = static_cast<long long>(threadSlots.size());
+        begin = static_cast<int>(numCells*thread/numThreads);
+        end = static_cast<int>(numCells*(thread+1)/numThreads);
+    }
     std::vector<OpenMM::Vec3> wrappedPositions;
 };
 

@@ -6,16 +6,28 @@ namespace OpenMMDPD {
 /**
  * The innermost loop of the CPU pair search: which of a run of candidate positions (x, y, z) lie
  * within a radius of one point.  Compiled for AVX-512 (8 distances at a time, the hits compressed
- * with one instruction) and for plain x86-64 (a branch-free compaction), chosen at run time.
+ * in registers and stored whole) and for plain x86-64 (a branch-free compaction), chosen at run time.
  */
 class CpuDPDDistanceFilter {
 public:
+    /** A run of candidates: shifted positions, sorted particle indices and image codes. */
+    struct Candidates {
+        const double *x, *y, *z;
+        const int *index, *image;
+    };
+    /** Where the hits go: one pair record per hit, in candidate order. */
+    struct Hits {
+        int *index, *image;
+        double *dx, *dy, *dz;
+    };
     /**
-     * Write to `close` the indices k in [first, end) with 0 < |q - (x_k, y_k, z_k)|^2 < radius2, in
-     * increasing order, and return how many there are.  `close` has room for end - first + 16 entries.
+     * For the candidates k in [first, end) with 0 < |q - (x_k, y_k, z_k)|^2 < radius2, in increasing
+     * order, write index_k, image_k and the displacement q - (x_k, y_k, z_k) to `hits`; return how
+     * many there are.  Up to 8 entries past the last hit may be written: every output array needs
+     * room for the hits plus 8.  The displacement is one subtraction per component, the same bits
+     * on every path.
      */
-    static int findClose(const double* x, const double* y, const double* z, int first, int end, const double* q,
-                         double radius2, int* close);
+    static int findClose(const Candidates& candidates, int first, int end, const double* q, double radius2, const Hits& hits);
 };
 
 } // namespace OpenMMDPD

@@ -37,6 +37,8 @@ public:
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
+    /** On the thread pool when every thread gets enough particles to pay for the hand-over; else at once. */
+    void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) override;
 
 private:
     /**
@@ -52,7 +54,7 @@ private:
     };
     /** A thread's scratch for one cell: its half stencil's particles at their shifted positions, the distance filter's hits, the cell's pair geometry. */
     struct CandidateSet {
-        std::vector<int> index, closeIndex;
+        std::vector<int> index;
         std::vector<int> image;
         std::vector<double> x, y, z, ex, ey, ez, forceMagnitude;
         void resize(int count, std::size_t maxPairs);
@@ -103,7 +105,10 @@ private:
     std::vector<OpenMM::Vec3> sortedForces, sortedVelocities, sortedResponse;
     std::vector<int> sortedRepulsionType, sortedFrictionType;
     std::vector<double> inverseRepulsionCutoff;       // 1/r_c per type pair of the DPDForce being evaluated
-    std::vector<double> sortedInverseMass;
+    std::vector<double> sortedInverseMass;            // gathered only when the sweep is not uniform
+    std::vector<char> uniformMassOfThread;            // per thread: its share of the masses are all equal
+    bool uniformSweep = false;                        // one friction type, one mass: no per-particle parameters
+    double uniformInverseMass = 0.0;
 };
 
 } // namespace OpenMMDPD

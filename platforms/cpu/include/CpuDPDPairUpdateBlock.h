@@ -22,9 +22,14 @@ public:
     enum Kind { OrnsteinUhlenbeck, BBK, DissipativeAndRandomForce };
     static constexpr std::size_t blockSize = 8;
 
-    /** The particle data the pass reads, in the engine's sorted order. */
+    /**
+     * The particle data the pass reads, in the engine's sorted order.  When `uniform` (one friction
+     * type, every inverse mass equal to uniformInverseMass), frictionType and inverseMass are not read.
+     */
     struct Particles {
         const int* originalIndex;
+        bool uniform;
+        double uniformInverseMass;
         const int* frictionType;
         const double* inverseMass;
         const double *x, *y, *z;                           // wrapped positions

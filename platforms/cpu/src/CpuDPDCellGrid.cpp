@@ -46,6 +46,12 @@ void CpuDPDCellGrid::layOut(const Vec3* box, double radius) {
     int numCells = cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2];
     for (int k = 0; k < 3; k++)
         boxVectors[k] = box[k];
+    // The half stencil of a cell away from the faces, as index offsets, in getHalfStencil's order.
+    int count = 1;
+    for (int dz = 0; dz <= 1; dz++)
+        for (int dy = (dz == 0 ? 0 : -1); dy <= 1; dy++)
+            for (int dx = (dz == 0 && dy == 0 ? 1 : -1); dx <= 1; dx++)
+                interiorOffset[count++] = (dz*cellsPerAxis[1]+dy)*cellsPerAxis[0]+dx;
     layoutRadius = radius;
     for (int image = 0; image < 27; image++) {
         Vec3 shift = box[0]*imageIndex(image, 0)+box[1]*imageIndex(image, 1)+box[2]*imageIndex(image, 2);
@@ -87,37 +93,106 @@ void CpuDPDCellGrid::prepare(int numParticles, const Vec3* box, double radius) {
     sortedToOriginal.resize(numParticles);
     if (radius != layoutRadius || box[0] != boxVectors[0] || box[1] != boxVectors[1] || box[2] != boxVectors[2])
         layOut(box, radius);
+    cellStart.resize(getNumCells()+1);
     cellOfParticle.resize(numParticles);
     wrappedPositions.resize(numParticles);
-    sortedX.resize(numParticles);
-    sortedY.resize(numParticles);
-    sortedZ.resize(numParticles);
+    // 8 spare entries: the search copies a cell's particles 8 at a time, reading past the last.
+    sortedX.resize(numParticles+8);
+    sortedY.resize(numParticles+8);
+    sortedZ.resize(numParticles+8);
 }
 
-int CpuDPDCellGrid::locate(const std::vector<Vec3>& positions, int begin, int end) {
-    // Fractional coordinates in OpenMM's lower-triangular box: f_c = z/c_z, f_b = (y - f_c c_y)/b_y,
-    // f_a = (x - f_b b_x - f_c c_x)/a_x, each reduced into [0, 1) with the position.
-    const Vec3* box = boxVectors;
+namespace {
+
+/**
+ * Fractional coordinates in OpenMM's lower-triangular box: f_c = z/c_z, f_b = (y - f_c c_y)/b_y,
+ * f_a = (x - f_b b_x - f_c c_x)/a_x, each reduced into [0, 1) with the position (subtracting floor(f)
+ * times that box vector).  Written out per axis with no branch (GCC 12 still keeps the loop scalar
+ * under a target attribute, but inlines floor as one rounding instruction where the plain build calls
+ * a function); the file is compiled without contraction (-ffp-contract=off), so every instruction set
+ * gives the same bits.
+ */
+inline __attribute__((always_inline)) void locateFinite(const OpenMM::Vec3* box, const int* cells, const double* __restrict in,
+                                                        int begin, int end, double* __restrict out, int* __restrict cellOf) {
+    const double ax = box[0][0], ay = box[0][1], az = box[0][2];
+    const double bx = box[1][0], by = box[1][1], bz = box[1][2];
+    const double cx = box[2][0], cy = box[2][1], cz = box[2][2];
+    const int na = cells[0], nb = cells[1], nc = cells[2];
+#pragma omp simd
     for (int i = begin; i < end; i++) {
-        Vec3 p = positions[i];
+        double x = in[3*i], y = in[3*i+1], z = in[3*i+2];
+        double fc = z;
+        fc /= cz;
+        double wholeC = std::floor(fc);
+        x -= cx*wholeC;
+        y -= cy*wholeC;
+        z -= cz*wholeC;
+        fc -= wholeC;
+        double fb = y;
+        fb -= fc*cy;
+        fb /= by;
+        double wholeB = std::floor(fb);
+        x -= bx*wholeB;
+        y -= by*wholeB;
+        z -= bz*wholeB;
+        fb -= wholeB;
+        double fa = x;
+        fa -= fb*bx;
+        fa -= fc*cx;
+        fa /= ax;
+        double wholeA = std::floor(fa);
+        x -= ax*wholeA;
+        y -= ay*wholeA;
+        z -= az*wholeA;
+        fa -= wholeA;
+        int ia = std::min(na-1, std::max(0, static_cast<int>(fa*na)));
+        int ib = std::min(nb-1, std::max(0, static_cast<int>(fb*nb)));
+        int ic = std::min(nc-1, std::max(0, static_cast<int>(fc*nc)));
+        cellOf[i] = (ic*nb+ib)*na+ia;
+        out[3*i] = x;
+        out[3*i+1] = y;
+        out[3*i+2] = z;
+    }
+}
+
+using LocatePass = void (*)(const OpenMM::Vec3*, const int*, const double*, int, int, double*, int*);
+
+__attribute__((target("avx512f,avx512dq,avx512vl,avx512bw")))
+void locateAVX512(const OpenMM::Vec3* box, const int* cells, const double* in, int begin, int end, double* out, int* cellOf) {
+    locateFinite(box, cells, in, begin, end, out, cellOf);
+}
+
+__attribute__((target("avx2")))
+void locateAVX2(const OpenMM::Vec3* box, const int* cells, const double* in, int begin, int end, double* out, int* cellOf) {
+    locateFinite(box, cells, in, begin, end, out, cellOf);
+}
+
+void locateGeneric(const OpenMM::Vec3* box, const int* cells, const double* in, int begin, int end, double* out, int* cellOf) {
+    locateFinite(box, cells, in, begin, end, out, cellOf);
+}
+
+LocatePass selectLocate() {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
+        __builtin_cpu_supports("avx512bw"))
+        return locateAVX512;
+    if (__builtin_cpu_supports("avx2"))
+        return locateAVX2;
+    return locateGeneric;
+}
+
+} // namespace
+
+int CpuDPDCellGrid::locate(const std::vector<Vec3>& positions, int begin, int end) {
+    for (int i = begin; i < end; i++) {
+        const Vec3& p = positions[i];
         if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])))
             return i;
-        double fraction[3];
-        for (int k = 2; k >= 0; k--) {
-            double f = p[k];
-            for (int l = k+1; l < 3; l++)
-                f -= fraction[l]*box[l][k];
-            f /= box[k][k];
-            double whole = std::floor(f);
-            p -= box[k]*whole;
-            fraction[k] = f-whole;
-        }
-        int index[3];
-        for (int k = 0; k < 3; k++)
-            index[k] = std::min(cellsPerAxis[k]-1, std::max(0, static_cast<int>(fraction[k]*cellsPerAxis[k])));
-        cellOfParticle[i] = (index[2]*cellsPerAxis[1]+index[1])*cellsPerAxis[0]+index[0];
-        wrappedPositions[i] = p;
     }
+    static const LocatePass pass = selectLocate();
+    // Vec3 is three doubles.
+    pass(boxVectors, cellsPerAxis, reinterpret_cast<const double*>(positions.data()), begin, end,
+         reinterpret_cast<double*>(wrappedPositions.data()), cellOfParticle.data());
     return -1;
 }
 
@@ -132,6 +207,47 @@ void CpuDPDCellGrid::sortByCell() {
     fill.assign(cellStart.begin(), cellStart.end()-1);
     for (int i = 0; i < numParticles; i++)
         sortedToOriginal[fill[cellOfParticle[i]]++] = i;
+}
+
+void CpuDPDCellGrid::countByCell(int thread, int begin, int end) {
+    std::vector<int>& count = threadSlots[thread];
+    count.assign(getNumCells(), 0);
+    for (int i = begin; i < end; i++)
+        count[cellOfParticle[i]]++;
+}
+
+void CpuDPDCellGrid::sumCellBlock(int thread) {
+    int first, last, total = 0;
+    cellBlock(thread, first, last);
+    for (const std::vector<int>& count : threadSlots)
+        for (int cell = first; cell < last; cell++)
+            total += count[cell];
+    blockTotal[thread] = total;
+}
+
+void CpuDPDCellGrid::placeCellBlock(int thread) {
+    // A cell's particles are those of thread 0, then thread 1 ..., each in System order: the order
+    // of the serial sort.
+    int first, last, slot = 0;
+    cellBlock(thread, first, last);
+    for (int t = 0; t < thread; t++)
+        slot += blockTotal[t];
+    for (int cell = first; cell < last; cell++) {
+        cellStart[cell] = slot;
+        for (std::vector<int>& count : threadSlots) {
+            int particles = count[cell];
+            count[cell] = slot;
+            slot += particles;
+        }
+    }
+    if (thread == static_cast<int>(threadSlots.size())-1)
+        cellStart[getNumCells()] = static_cast<int>(cellOfParticle.size());
+}
+
+void CpuDPDCellGrid::scatterByCell(int thread, int begin, int end) {
+    int* slot = threadSlots[thread].data();
+    for (int i = begin; i < end; i++)
+        sortedToOriginal[slot[cellOfParticle[i]]++] = i;
 }
 
 void CpuDPDCellGrid::gatherSortedPositions(int begin, int end) {
@@ -152,8 +268,13 @@ void CpuDPDCellGrid::throwNonFinite(const std::vector<Vec3>& positions, int part
 
 void CpuDPDCellGrid::getHalfStencil(int cell, Neighbor stencil[halfStencilSize]) const {
     int nx = cellsPerAxis[0], ny = cellsPerAxis[1], nz = cellsPerAxis[2];
-    int x = cell%nx, y = (cell/nx)%ny, z = cell/(nx*ny);
+    int layer = cell/nx, x = cell-layer*nx, z = layer/ny, y = layer-z*ny;
     stencil[0] = {cell, unshiftedImage};
+    if (x >= 1 && x < nx-1 && y >= 1 && y < ny-1 && z < nz-1) { // no wrap (most cells): fixed index offsets
+        for (int k = 1; k < halfStencilSize; k++)
+            stencil[k] = {cell+interiorOffset[k], unshiftedImage};
+        return;
+    }
     int count = 1;
     for (int dz = 0; dz <= 1; dz++)
         for (int dy = (dz == 0 ? 0 : -1); dy <= 1; dy++)

@@ -2,28 +2,44 @@
 #include <immintrin.h>
 
 using namespace OpenMMDPD;
+using Candidates = CpuDPDDistanceFilter::Candidates;
+using Hits = CpuDPDDistanceFilter::Hits;
 
 namespace {
 
-using FindClose = int (*)(const double*, const double*, const double*, int, int, const double*, double, int*);
+using FindClose = int (*)(const Candidates&, int, int, const double*, double, const Hits&);
 
-int findCloseGeneric(const double* x, const double* y, const double* z, int first, int end, const double* q, double radius2, int* close) {
+int findCloseGeneric(const Candidates& c, int first, int end, const double* q, double radius2, const Hits& hits) {
     int numClose = 0;
     for (int k = first; k < end; k++) {
-        double dx = q[0]-x[k], dy = q[1]-y[k], dz = q[2]-z[k];
+        double dx = q[0]-c.x[k], dy = q[1]-c.y[k], dz = q[2]-c.z[k];
         double r2 = dx*dx+dy*dy+dz*dz;
-        close[numClose] = k;
+        // Written unconditionally, kept by advancing the count: no branch on the (unpredictable) hit.
+        hits.index[numClose] = c.index[k];
+        hits.image[numClose] = c.image[k];
+        hits.dx[numClose] = dx;
+        hits.dy[numClose] = dy;
+        hits.dz[numClose] = dz;
         numClose += (r2 < radius2) & (r2 > 0.0);
     }
     return numClose;
 }
 
 __attribute__((target("avx512f,avx512vl")))
-int findCloseAVX512(const double* x, const double* y, const double* z, int first, int end, const double* q, double radius2, int* close) {
+int findCloseAVX512(const Candidates& c, int first, int end, const double* q, double radius2, const Hits& hits) {
     const __m512d qx = _mm512_set1_pd(q[0]), qy = _mm512_set1_pd(q[1]), qz = _mm512_set1_pd(q[2]);
     const __m512d limit = _mm512_set1_pd(radius2), zero = _mm512_setzero_pd();
-    const __m256i step = _mm256_set1_epi32(8);
-    __m256i index = _mm256_add_epi32(_mm256_set1_epi32(first), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    // Local copies: the stores below could otherwise alias the structs and force reloads.
+    const double* __restrict x = c.x;
+    const double* __restrict y = c.y;
+    const double* __restrict z = c.z;
+    const int* __restrict candidateIndex = c.index;
+    const int* __restrict candidateImage = c.image;
+    int* __restrict hitIndex = hits.index;
+    int* __restrict hitImage = hits.image;
+    double* __restrict hitX = hits.dx;
+    double* __restrict hitY = hits.dy;
+    double* __restrict hitZ = hits.dz;
     int numClose = 0;
     for (int k = first; k < end; k += 8) {
         __mmask8 valid = end-k >= 8 ? 0xff : static_cast<__mmask8>((1u << (end-k))-1);
@@ -31,10 +47,16 @@ int findCloseAVX512(const double* x, const double* y, const double* z, int first
         __m512d dy = _mm512_sub_pd(qy, _mm512_maskz_loadu_pd(valid, y+k));
         __m512d dz = _mm512_sub_pd(qz, _mm512_maskz_loadu_pd(valid, z+k));
         __m512d r2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
-        __mmask8 hits = _mm512_mask_cmp_pd_mask(valid, r2, limit, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
-        _mm256_mask_compressstoreu_epi32(close+numClose, hits, index);
-        numClose += __builtin_popcount(hits);
-        index = _mm256_add_epi32(index, step);
+        __mmask8 hit = _mm512_mask_cmp_pd_mask(valid, r2, limit, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
+        // Compressed in registers and stored whole (cheaper than a compressing store to memory, and
+        // no branch on the unpredictable hits); the lanes past the hits are overwritten or ignored.
+        __m256i index = _mm256_maskz_loadu_epi32(valid, candidateIndex+k), image = _mm256_maskz_loadu_epi32(valid, candidateImage+k);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(hitIndex+numClose), _mm256_maskz_compress_epi32(hit, index));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(hitImage+numClose), _mm256_maskz_compress_epi32(hit, image));
+        _mm512_storeu_pd(hitX+numClose, _mm512_maskz_compress_pd(hit, dx));
+        _mm512_storeu_pd(hitY+numClose, _mm512_maskz_compress_pd(hit, dy));
+        _mm512_storeu_pd(hitZ+numClose, _mm512_maskz_compress_pd(hit, dz));
+        numClose += __builtin_popcount(hit);
     }
     return numClose;
 }
@@ -48,8 +70,8 @@ FindClose select() {
 
 } // namespace
 
-int CpuDPDDistanceFilter::findClose(const double* x, const double* y, const double* z, int first, int end, const double* q,
-                                    double radius2, int* close) {
+int CpuDPDDistanceFilter::findClose(const Candidates& candidates, int first, int end, const double* q, double radius2,
+                                    const Hits& hits) {
     static const FindClose implementation = select();
-    return implementation(x, y, z, first, end, q, radius2, close);
+    return implementation(candidates, first, end, q, radius2, hits);
 }

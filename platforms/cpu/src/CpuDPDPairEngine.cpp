@@ -1,4 +1,5 @@
 #include "CpuDPDPairEngine.h"
+#include "CpuDPDConservativeForce.h"
 #include "CpuDPDDistanceFilter.h"
 #include "DPDPairFormulas.h"
 #include <algorithm>
@@ -18,16 +19,15 @@ void CpuDPDPairEngine::PairBuffer::reserveMore(std::size_t count) {
 }
 
 void CpuDPDPairEngine::CandidateSet::resize(int count, std::size_t maxPairs) {
-    if (static_cast<int>(index.size()) < count) {
+    if (static_cast<int>(index.size()) < count+8) { // +8: the candidates are copied 8 at a time
         for (auto* array : {&x, &y, &z})
-            array->resize(2*count);
-        index.resize(2*count);
-        image.resize(2*count);
-        closeIndex.resize(2*count+16);
+            array->resize(2*count+8);
+        index.resize(2*count+8);
+        image.resize(2*count+8);
     }
-    if (ex.size() < maxPairs)
+    if (ex.size() < maxPairs+16)
         for (auto* array : {&ex, &ey, &ez, &forceMagnitude})
-            array->resize(2*maxPairs);
+            array->resize(2*maxPairs+16);
 }
 
 CpuDPDPairEngine::CpuDPDPairEngine(OpenMM::ThreadPool& threads)
@@ -43,11 +43,31 @@ void CpuDPDPairEngine::onThreads(const std::function<void(int)>& body) {
     threads.waitForThreads();
 }
 
+void CpuDPDPairEngine::forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) {
+    // A kick or drift costs a few ns a particle, a hand-over to the pool tens of microseconds.
+    const int minParticlesPerThread = 8192;
+    int useThreads = threads.getNumThreads();
+    if (useThreads == 1 || count < 2*minParticlesPerThread) {
+        body(0, count);
+        return;
+    }
+    threads.execute([&](OpenMM::ThreadPool&, int thread) {
+        body(static_cast<int>(static_cast<long long>(count)*thread/useThreads), static_cast<int>(static_cast<long long>(count)*(thread+1)/useThreads));
+    });
+    threads.waitForThreads();
+}
+
 void CpuDPDPairEngine::cellsOfThread(int color, int thread, int& begin, int& end) const {
     int first = grid.colorStart[color], count = grid.colorStart[color+1]-first;
     begin = first+static_cast<int>(static_cast<long long>(count)*thread/numThreads);
     end = first+static_cast<int>(static_cast<long long>(count)*(thread+1)/numThreads);
 }
+
+namespace {
+
+constexpr std::size_t padding = 8;
+
+} // namespace
 
 __attribute__((target_clones("avx512f", "avx2", "default")))
 void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates) {
@@ -67,71 +87,60 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
     std::size_t maxPairs = static_cast<std::size_t>(numInCell)*numCandidates;
     candidates.resize(numCandidates, maxPairs);
     numCandidates = 0;
+    int* __restrict candidateIndex = candidates.index.data();
+    int* __restrict candidateImage = candidates.image.data();
+    double* __restrict candidateX = candidates.x.data();
+    double* __restrict candidateY = candidates.y.data();
+    double* __restrict candidateZ = candidates.z.data();
     for (const CpuDPDCellGrid::Neighbor& neighbor : stencil) {
         int begin = cellStart[neighbor.cell], count = cellStart[neighbor.cell+1]-begin;
         double shiftX = grid.imageShiftX[neighbor.image], shiftY = grid.imageShiftY[neighbor.image], shiftZ = grid.imageShiftZ[neighbor.image];
-        for (int k = 0; k < count; k++) {
-            candidates.index[numCandidates+k] = begin+k;
-            candidates.image[numCandidates+k] = neighbor.image;
-            candidates.x[numCandidates+k] = sortedX[begin+k]+shiftX;
-            candidates.y[numCandidates+k] = sortedY[begin+k]+shiftY;
-            candidates.z[numCandidates+k] = sortedZ[begin+k]+shiftZ;
-        }
+        // Eight at a time whatever the count (a cell holds ~3 particles at rho = 3): a fixed trip
+        // count is one vector step with no mispredicted loop exit; the extra entries are overwritten
+        // by the next neighbour or lie past the candidates.
+        for (int first = 0; first < count; first += 8)
+#pragma omp simd
+            for (int k = 0; k < 8; k++) {
+                int n = numCandidates+first+k, s = begin+first+k;
+                candidateIndex[n] = s;
+                candidateImage[n] = neighbor.image;
+                candidateX[n] = sortedX[s]+shiftX;
+                candidateY[n] = sortedY[s]+shiftY;
+                candidateZ[n] = sortedZ[s]+shiftZ;
+            }
         numCandidates += count;
     }
     std::size_t cellBegin = buffer.size;
-    buffer.reserveMore(maxPairs);
+    buffer.reserveMore(maxPairs+2*padding); // the filter writes up to 8 records past its hits, the force pass pads to 8
     double radius2 = radius*radius;
     double* __restrict ex = candidates.ex.data();
     double* __restrict ey = candidates.ey.data();
     double* __restrict ez = candidates.ez.data();
+    const CpuDPDDistanceFilter::Candidates run{candidates.x.data(), candidates.y.data(), candidates.z.data(),
+                                               candidates.index.data(), candidates.image.data()};
     for (int local = 0; local < numInCell; local++) {
         int a = firstOfCell+local;
         double q[3] = {sortedX[a], sortedY[a], sortedZ[a]};
-        int* close = candidates.closeIndex.data();
-        int numClose = CpuDPDDistanceFilter::findClose(candidates.x.data(), candidates.y.data(), candidates.z.data(), local+1,
-                                                       numCandidates, q, radius2, close);
-        std::size_t base = buffer.size;
-        for (int n = 0; n < numClose; n++) {
-            int k = close[n];
-            buffer.i[base+n] = a;
-            buffer.j[base+n] = candidates.index[k];
-            buffer.image[base+n] = candidates.image[k];
-            ex[base-cellBegin+n] = q[0]-candidates.x[k]; // the displacement d = q_a - (q_b + shift)
-            ey[base-cellBegin+n] = q[1]-candidates.y[k];
-            ez[base-cellBegin+n] = q[2]-candidates.z[k];
-        }
+        std::size_t base = buffer.size, offset = base-cellBegin;
+        // The displacement d = q_a - (q_b + shift) of each hit comes with it.
+        int numClose = CpuDPDDistanceFilter::findClose(run, local+1, numCandidates, q, radius2,
+                                                       {&buffer.j[base], &buffer.image[base], ex+offset, ey+offset, ez+offset});
+        std::fill(&buffer.i[base], &buffer.i[base]+numClose, a);
         buffer.size += numClose;
     }
     if (repulsion == nullptr)
         return;
-    // Conservative pair force a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3):
-    // magnitudes over the cell's pairs in one pass, then the scatter.
-    std::size_t numPairs = buffer.size-cellBegin;
-    double* __restrict magnitude = candidates.forceMagnitude.data();
-    const int* __restrict pi = buffer.i.data()+cellBegin;
-    const int* __restrict pj = buffer.j.data()+cellBegin;
-    const int* __restrict type = sortedRepulsionType.data();
-    const double* __restrict strengthTable = repulsion->value.data();
-    const double* __restrict cutoffTable = repulsion->cutoff.data();
-    const double* __restrict inverseCutoffTable = inverseRepulsionCutoff.data();
-    int numTypes = repulsion->numTypes;
-    double energy = 0.0;
-#pragma omp simd reduction(+:energy)
-    for (std::size_t n = 0; n < numPairs; n++) {
-        double r2 = ex[n]*ex[n]+ey[n]*ey[n]+ez[n]*ez[n];
-        double invR = 1.0/std::sqrt(r2);
-        int typePair = type[pi[n]]*numTypes+type[pj[n]];
-        double cutoff = cutoffTable[typePair], inverseCutoff = inverseCutoffTable[typePair];
-        double strength = r2 < cutoff*cutoff ? strengthTable[typePair] : 0.0, w = 1.0-r2*invR*inverseCutoff;
-        magnitude[n] = strength*(invR-inverseCutoff); // a w / r: times d gives a w e
-        energy += 0.5*strength*cutoff*w*w;
+    // The force pass runs over whole vectors: the pairs are padded to a multiple of 8 with harmless
+    // ones (particle 0 with itself at distance 1, no strength), which add exactly zero.
+    std::size_t numPairs = buffer.size-cellBegin, paddedPairs = (numPairs+padding-1)/padding*padding;
+    for (std::size_t n = numPairs; n < paddedPairs; n++) {
+        buffer.i[cellBegin+n] = buffer.j[cellBegin+n] = 0;
+        ex[n] = 1.0;
+        ey[n] = ez[n] = 0.0;
     }
-    for (std::size_t n = 0; n < numPairs; n++) {
-        Vec3 force = Vec3(ex[n], ey[n], ez[n])*magnitude[n];
-        sortedForces[pi[n]] += force;
-        sortedForces[pj[n]] -= force;
-    }
+    const CpuDPDConservativeForce::Table table{repulsion, inverseRepulsionCutoff.data(), sortedRepulsionType.data()};
+    double energy = CpuDPDConservativeForce::add(numPairs, paddedPairs, &buffer.i[cellBegin], &buffer.j[cellBegin], ex, ey, ez, table,
+                                                 candidates.forceMagnitude.data(), sortedForces.data());
     cellSum[cell] = energy;
 }
 
@@ -157,6 +166,7 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
             inverseRepulsionCutoff[k] = 1.0/repulsion->cutoff[k];
     }
     nonFinite.assign(numThreads, -1);
+    grid.setNumThreads(numThreads);
     onThreads([&](int thread) {
         int first = particleRangeBegin(thread, numParticles), last = particleRangeBegin(thread+1, numParticles);
         nonFinite[thread] = grid.locate(positions, first, last);
@@ -164,15 +174,25 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
         for (int bad : nonFinite)
             if (bad >= 0)
                 return; // thrown below, outside the threads
-        if (thread == 0)
+        if (numThreads == 1)
             grid.sortByCell();
+        else { // the same counting sort in parallel phases
+            grid.countByCell(thread, first, last);
+            barrier.wait();
+            grid.sumCellBlock(thread);
+            barrier.wait();
+            grid.placeCellBlock(thread);
+            barrier.wait();
+            grid.scatterByCell(thread, first, last);
+        }
         barrier.wait();
         grid.gatherSortedPositions(first, last);
-        if (repulsion != nullptr)
-            for (int s = first; s < last; s++) {
-                sortedRepulsionType[s] = repulsion->particleTypeIndex[grid.sortedToOriginal[s]];
-                sortedForces[s] = Vec3();
-            }
+        if (repulsion != nullptr) {
+            std::fill(sortedForces.begin()+first, sortedForces.begin()+last, Vec3());
+            if (repulsion->numTypes > 1) // with one type the force pass reads no types
+                for (int s = first; s < last; s++)
+                    sortedRepulsionType[s] = repulsion->particleTypeIndex[grid.sortedToOriginal[s]];
+        }
         barrier.wait();
         PairBuffer& buffer = buffers[thread];
         buffer.size = 0;
@@ -208,16 +228,29 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
     sortedInverseMass.resize(numParticles);
     if (sweep.stress != nullptr)
         cellStress.resize(grid.getNumCells());
-    CpuDPDPairUpdateBlock::Particles particles{grid.sortedToOriginal.data(), sortedFrictionType.data(), sortedInverseMass.data(),
-                                               grid.sortedX.data(), grid.sortedY.data(), grid.sortedZ.data(),
-                                               grid.imageShiftX, grid.imageShiftY, grid.imageShiftZ};
+    uniformMassOfThread.assign(numThreads, 1);
+    uniformInverseMass = numParticles > 0 ? sweep.inverseMasses[0] : 0.0;
     onThreads([&](int thread) {
         int firstParticle = particleRangeBegin(thread, numParticles), lastParticle = particleRangeBegin(thread+1, numParticles);
-        for (int s = firstParticle; s < lastParticle; s++) {
-            int original = grid.sortedToOriginal[s];
-            sortedFrictionType[s] = sweep.friction.particleTypeIndex[original];
-            sortedInverseMass[s] = sweep.inverseMasses[original];
-        }
+        // One friction type and one mass (the usual DPD fluid): the pass needs no per-particle parameters.
+        const double* inverseMass = sweep.inverseMasses.data();
+        bool sameMass = true;
+        for (int i = firstParticle; i < lastParticle; i++)
+            sameMass &= inverseMass[i] == uniformInverseMass;
+        uniformMassOfThread[thread] = sameMass;
+        barrier.wait();
+        bool uniform = sweep.friction.numTypes == 1 && std::all_of(uniformMassOfThread.begin(), uniformMassOfThread.end(), [](char same) { return same != 0; });
+        if (thread == 0)
+            uniformSweep = uniform; // read by apply() only after the barrier below
+        if (!uniform)
+            for (int s = firstParticle; s < lastParticle; s++) {
+                int original = grid.sortedToOriginal[s];
+                sortedFrictionType[s] = sweep.friction.particleTypeIndex[original];
+                sortedInverseMass[s] = inverseMass[original];
+            }
+        CpuDPDPairUpdateBlock::Particles particles{grid.sortedToOriginal.data(), uniform, uniformInverseMass, sortedFrictionType.data(),
+                                                   sortedInverseMass.data(), grid.sortedX.data(), grid.sortedY.data(), grid.sortedZ.data(),
+                                                   grid.imageShiftX, grid.imageShiftY, grid.imageShiftZ};
         gather(firstParticle, lastParticle);
         barrier.wait();
         PairBuffer& buffer = buffers[thread];
@@ -272,33 +305,54 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
                 sortedResponse[s] = (*response)[original[s]];
     };
     // The plain sweep (no shear, stress or Norton) is the hot loop: compiled on its own, without them.
-    auto sweepCell = [&](auto plain, int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
+    auto sweepCell = [&](auto plain, auto uniform, int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block,
+                         int blockStart) {
         constexpr bool extras = !decltype(plain)::value;
+        const double* inverseMass = sortedInverseMass.data();
+        const double uniformInverseMass = this->uniformInverseMass;
         const PairBuffer& pairs = buffers[thread];
         DPDPairStressSums* stress = extras ? cellStressOf(sweep, cell) : nullptr;
         double responseOfDissipation = 0.0;
+        // A cell's pairs come in runs of one particle a (its pairs with the particles after it): v_a
+        // stays in registers through its run instead of a store and reload per pair, which the
+        // successive update would wait for.  The same operations in the same order: the same bits
+        // (b is never a, so no pair reads a stale v_a).
+        Vec3* velocity = sortedVelocities.data();
+        int current = first < last ? pairs.i[first] : 0;
+        Vec3 va = first < last ? velocity[current] : Vec3();
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
+            if (a != current) {
+                velocity[current] = va;
+                current = a;
+                va = velocity[a];
+            }
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
-            double u = e.dot(sortedVelocities[a]-sortedVelocities[b]);
+            double u = e.dot(va-velocity[b]);
             if (extras)
                 u += leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
             double deltaP = block.slope[n]*u + block.offset[n]; // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
-            sortedVelocities[a] += e*(deltaP*sortedInverseMass[a]);
-            sortedVelocities[b] -= e*(deltaP*sortedInverseMass[b]);
+            va += e*(deltaP*(uniform ? uniformInverseMass : inverseMass[a]));
+            velocity[b] -= e*(deltaP*(uniform ? uniformInverseMass : inverseMass[b]));
             if (extras && stress != nullptr)
                 addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
             if (extras && response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
                 responseOfDissipation += block.slope[n]*u*e.dot(sortedResponse[a]-sortedResponse[b]);
         }
+        if (first < last)
+            velocity[current] = va;
         cellSum[cell] = responseOfDissipation;
     };
     bool plain = sweep.shearRate == 0.0 && sweep.stress == nullptr && response == nullptr;
     auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
-        if (plain)
-            sweepCell(std::true_type(), thread, cell, first, last, block, blockStart);
+        if (plain && uniformSweep)
+            sweepCell(std::true_type(), std::true_type(), thread, cell, first, last, block, blockStart);
+        else if (plain)
+            sweepCell(std::true_type(), std::false_type(), thread, cell, first, last, block, blockStart);
+        else if (uniformSweep)
+            sweepCell(std::false_type(), std::true_type(), thread, cell, first, last, block, blockStart);
         else
-            sweepCell(std::false_type(), thread, cell, first, last, block, blockStart);
+            sweepCell(std::false_type(), std::false_type(), thread, cell, first, last, block, blockStart);
     };
     auto scatter = [&](int begin, int end) {
         for (int s = begin; s < end; s++)

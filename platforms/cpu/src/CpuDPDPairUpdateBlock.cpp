@@ -15,8 +15,11 @@ constexpr int B = static_cast<int>(CpuDPDPairUpdateBlock::blockSize);
 /**
  * One block of pairs in three simple loops the vectoriser handles: geometry and parameters, the
  * random numbers (DPDPairRandom::normal, through the vector math library), and the update formulas.
+ * `uniform`: one friction type and one mass for all particles, so the per-pair table and mass
+ * gathers give the same values every time and are loaded once (the same operations on the same
+ * values: the same bits as the general path).
  */
-template <CpuDPDPairUpdateBlock::Kind kind>
+template <CpuDPDPairUpdateBlock::Kind kind, bool uniform>
 inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,
                    const int* __restrict pi, const int* __restrict pj, const int* __restrict image,
                    double* __restrict ex, double* __restrict ey, double* __restrict ez, double* __restrict distance,
@@ -35,6 +38,7 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
     const double* __restrict shiftZ = particles.imageShiftZ;
     const std::uint64_t randomKey = sweep.randomKey;
     const double kT = sweep.kT, dt = sweep.dt;
+    const double uniformInverseMass = particles.uniformInverseMass;
     for (std::size_t block = 0; block < numBlocks; block++) {
         const std::size_t first = block*B;
         double r[B], gamma[B], w[B], invReducedMass[B], acts[B], R[B];
@@ -53,9 +57,9 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
             ex[k] = dx*invR;
             ey[k] = dy*invR;
             ez[k] = dz*invR;
-            int typePair = frictionType[i]*numTypes+frictionType[j];
+            int typePair = uniform ? 0 : frictionType[i]*numTypes+frictionType[j];
             double cutoff = cutoffTable[typePair];
-            invReducedMass[n] = inverseMass[i]+inverseMass[j];
+            invReducedMass[n] = uniform ? uniformInverseMass+uniformInverseMass : inverseMass[i]+inverseMass[j];
             acts[n] = static_cast<double>(r[n] < cutoff)*static_cast<double>(gammaTable[typePair] != 0.0)*static_cast<double>(invReducedMass[n] > 0.0);
             // Pairs that do not act get harmless parameters and a zero update.
             gamma[n] = acts[n] != 0.0 ? gammaTable[typePair] : 1.0;
@@ -87,25 +91,25 @@ using BlockPass = void (*)(std::size_t, const DPDPairSweep&, const CpuDPDPairUpd
                            const int*, double*, double*, double*, double*, double*, double*);
 
 #define OPENMMDPD_BLOCK_PASS(name, target)                                                                                \
-    template <CpuDPDPairUpdateBlock::Kind kind>                                                                           \
+    template <CpuDPDPairUpdateBlock::Kind kind, bool uniform>                                                             \
     target void name(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,  \
                      const int* pi, const int* pj, const int* image, double* ex, double* ey, double* ez,                  \
                      double* r, double* slope, double* offset) {                                                           \
-        computeBlocks<kind>(numBlocks, sweep, particles, pi, pj, image, ex, ey, ez, r, slope, offset);                     \
+        computeBlocks<kind, uniform>(numBlocks, sweep, particles, pi, pj, image, ex, ey, ez, r, slope, offset);                     \
     }
 OPENMMDPD_BLOCK_PASS(computeBlocksAVX512, __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,fma"))))
 OPENMMDPD_BLOCK_PASS(computeBlocksAVX2, __attribute__((target("avx2,fma"))))
 OPENMMDPD_BLOCK_PASS(computeBlocksGeneric, )
 
-template <CpuDPDPairUpdateBlock::Kind kind>
+template <CpuDPDPairUpdateBlock::Kind kind, bool uniform>
 BlockPass selectBlockPass() {
     __builtin_cpu_init();
     if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
         __builtin_cpu_supports("avx512bw"))
-        return computeBlocksAVX512<kind>;
+        return computeBlocksAVX512<kind, uniform>;
     if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
-        return computeBlocksAVX2<kind>;
-    return computeBlocksGeneric<kind>;
+        return computeBlocksAVX2<kind, uniform>;
+    return computeBlocksGeneric<kind, uniform>;
 }
 
 } // namespace
@@ -115,8 +119,10 @@ void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const 
     std::size_t wholeBlocks = count/blockSize, tail = count-wholeBlocks*blockSize;
     for (std::vector<double>* out : {&ex, &ey, &ez, &r, &slope, &offset})
         out->resize((wholeBlocks+1)*blockSize);
-    static const BlockPass passes[3] = {selectBlockPass<OrnsteinUhlenbeck>(), selectBlockPass<BBK>(), selectBlockPass<DissipativeAndRandomForce>()};
-    BlockPass run = passes[kind];
+    static const BlockPass passes[2][3] = {
+        {selectBlockPass<OrnsteinUhlenbeck, false>(), selectBlockPass<BBK, false>(), selectBlockPass<DissipativeAndRandomForce, false>()},
+        {selectBlockPass<OrnsteinUhlenbeck, true>(), selectBlockPass<BBK, true>(), selectBlockPass<DissipativeAndRandomForce, true>()}};
+    BlockPass run = passes[particles.uniform][kind];
     run(wholeBlocks, sweep, particles, i, j, image, ex.data(), ey.data(), ez.data(), r.data(), slope.data(), offset.data());
     if (tail == 0)
         return;

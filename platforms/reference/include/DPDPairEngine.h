@@ -89,6 +89,13 @@ public:
     /** VV's dissipative and random pair forces F^D + F^R (eqs. 2.2b, 2.2c) at these velocities, added to `forces`. */
     virtual void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                                std::vector<OpenMM::Vec3>& forces) = 0;
+    /**
+     * Run body(begin, end) on consecutive ranges that cover [0, count), perhaps several at once on the
+     * platform's threads (the schemes' per-particle kicks and drifts).  What body does to a particle
+     * must not depend on the split, so the results do not depend on the number of threads.  The
+     * default runs body(0, count).
+     */
+    virtual void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) { body(0, count); }
 };
 
 /** How a platform makes its engines (one for a DPDForce kernel, one for an integrator's own pairs). */

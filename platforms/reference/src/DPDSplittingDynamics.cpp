@@ -9,6 +9,7 @@
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/NonbondedForce.h"
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <istream>
 #include <ostream>
@@ -79,6 +80,7 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
         masses[i] = system.getParticleMass(i);
         inverseMasses[i] = masses[i] == 0.0 ? 0.0 : 1.0/masses[i];
     }
+    ownEngine = this->makeEngine(); // also runs the per-particle loops (kick, drift) on the platform's threads
     int seed = integrator.getRandomNumberSeed();
     random = DPDPairRandom(seed != 0 ? static_cast<std::uint64_t>(seed) : std::random_device()());
     Vec3 box[3];
@@ -122,20 +124,26 @@ int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>&
     // A finite but runaway state is caught too: no particle of a sound simulation moves half the
     // box in one step, and past that the minimum image and the pair lists lose their meaning.
     double limit2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
-    int unsound = -1;
-    for (std::size_t i = 0; i < positions.size(); i++) {
-        if (inverseMasses[i] == 0.0)
-            continue;
-        Vec3 displacement = velocities[i]*dt;
-        positions[i] += displacement;
-        // Both tests are false for NaN; the second also catches a finite step to an infinite position.
-        bool sound = displacement.dot(displacement) <= limit2 && std::isfinite(positions[i].dot(positions[i]));
-        if (!sound && unsound < 0)
-            unsound = static_cast<int>(i);
-    }
+    std::atomic<int> unsound{-1}; // the first unsound particle, whatever the split among threads
+    ownEngine->forEachParticleRange(static_cast<int>(positions.size()), [&](int begin, int end) {
+        int firstOfRange = -1;
+        for (int i = begin; i < end; i++) {
+            if (inverseMasses[i] == 0.0)
+                continue;
+            Vec3 displacement = velocities[i]*dt;
+            positions[i] += displacement;
+            // Both tests are false for NaN; the second also catches a finite step to an infinite position.
+            bool sound = displacement.dot(displacement) <= limit2 && std::isfinite(positions[i].dot(positions[i]));
+            if (!sound && firstOfRange < 0)
+                firstOfRange = i;
+        }
+        int first = unsound.load();
+        while (firstOfRange >= 0 && (first < 0 || firstOfRange < first) && !unsound.compare_exchange_weak(first, firstOfRange)) {
+        }
+    });
     if (!virtualSites.empty())
         context.computeVirtualSites(); // as OpenMM's integrators do after every position update
-    return unsound;
+    return unsound.load();
 }
 
 void DPDSplittingDynamics::checkExternalState(OpenMM::ContextImpl& context) const {
@@ -188,12 +196,17 @@ void DPDSplittingDynamics::moveImages(OpenMM::ContextImpl& context, double elaps
 }
 
 bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt) const {
-    bool finite = true;
-    for (std::size_t i = 0; i < velocities.size(); i++) {
-        velocities[i] += forces[i]*(dt*inverseMasses[i]);
-        finite &= std::isfinite(velocities[i][0]) && std::isfinite(velocities[i][1]) && std::isfinite(velocities[i][2]);
-    }
-    return finite;
+    std::atomic<bool> allFinite{true};
+    ownEngine->forEachParticleRange(static_cast<int>(velocities.size()), [&](int begin, int end) {
+        bool finite = true;
+        for (int i = begin; i < end; i++) {
+            velocities[i] += forces[i]*(dt*inverseMasses[i]);
+            finite &= std::isfinite(velocities[i][0]) && std::isfinite(velocities[i][1]) && std::isfinite(velocities[i][2]);
+        }
+        if (!finite)
+            allFinite.store(false);
+    });
+    return allFinite.load();
 }
 
 DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context) {
