@@ -71,6 +71,22 @@ def test_transport_scene_and_its_plan():
     assert len({seed_of(2024, t) for t in tasks}) == len(tasks) and seed_of(2024, tasks[3]) == seed_of(2024, tasks[3])
 
 
+def test_scene_files_with_a_missing_table_or_a_bad_value_are_refused_by_name(tmp_path):
+    text = SCENE.read_text()
+    missing = tmp_path / "missing.toml"
+    missing.write_text(text.replace("[size_scan]", "[size_scan_typo]"))
+    with pytest.raises(ValueError, match="no 'size_scan'"):
+        load_transport_scene(missing)
+    odd = tmp_path / "odd.toml"
+    odd.write_text(text.replace("num_particles = [250, 500, 1000, 2000]", "num_particles = [251, 500]"))
+    with pytest.raises(ValueError, match="size_scan.num_particles"):
+        load_transport_scene(odd)
+    negative = tmp_path / "negative.toml"
+    negative.write_text(text.replace("sinusoidal = [0.25, 1.0, 4.0, 8.0]", "sinusoidal = [-0.25]"))
+    with pytest.raises(ValueError, match="response_curves.sinusoidal"):
+        load_transport_scene(negative)
+
+
 def test_large_systems_shorten_forced_runs_but_not_equilibrium_runs():
     scene = load_transport_scene(SCENE)
     budget = scene.budgets["reduced"]

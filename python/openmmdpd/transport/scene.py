@@ -104,8 +104,17 @@ def _positive_list(data: dict, key: str, where: str) -> List[float]:
 
 
 def load_transport_scene(path: Path) -> TransportScene:
+    """Read a transport scene file; a missing table or key raises ValueError naming it."""
     with open(path, "rb") as file:
         data = tomllib.load(file)
+    try:
+        return _scene_from(data)
+    except KeyError as missing:
+        raise ValueError(f"{path}: the scene file has no {missing.args[0]!r} (see examples/scenes/transport_lj_fluid.toml "
+                         "for the tables a transport scene needs)") from None
+
+
+def _scene_from(data: dict) -> TransportScene:
     system = dict(data["system"])
     dynamics = data["dynamics"]
     curves = data["response_curves"]
