@@ -232,6 +232,22 @@ inline bool bitIdentical(const Snapshot& a, const Snapshot& b) {
     return bitIdentical(a.positions, b.positions) && bitIdentical(a.velocities, b.velocities);
 }
 
+/**
+ * The integrator that makeIntegrator() returns, stepped `steps` times from `start` on each platform of
+ * allPlatforms (Reference, then CPU): the snapshots of cross-platform agreement tests.
+ */
+template <class MakeIntegrator>
+std::vector<Snapshot> stepOnEveryPlatform(const EquilibratedFluid& start, MakeIntegrator makeIntegrator, int steps) {
+    std::vector<Snapshot> result;
+    for (const std::string& platformName : allPlatforms) {
+        auto integrator = makeIntegrator();
+        auto context = makeContext(start, *integrator, platformName);
+        integrator->step(steps);
+        result.push_back(snapshot(*context));
+    }
+    return result;
+}
+
 inline double maxAbsDifference(const std::vector<OpenMM::Vec3>& a, const std::vector<OpenMM::Vec3>& b) {
     double result = 0.0;
     for (std::size_t i = 0; i < a.size(); i++)

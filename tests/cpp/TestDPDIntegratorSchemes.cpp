@@ -413,14 +413,11 @@ TEST(DPDIntegratorPlatforms, ReferenceAndCpuGiveTheSameVVTrajectory) {
     // dynamics over 30 steps (measured ~1e-12 for a similar comparison); 1e-8 is far below what one
     // different random number or missed pair does (~1e-2).
     EquilibratedFluid start = equilibratedSoftFluid(200);
-    Snapshot result[2];
-    for (int k = 0; k < 2; k++) {
-        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.05, "VV");
-        integrator.setRandomNumberSeed(77);
-        auto context = makeContext(start, integrator, allPlatforms[k]);
-        integrator.step(30);
-        result[k] = snapshot(*context);
-    }
+    std::vector<Snapshot> result = stepOnEveryPlatform(start, [] {
+        auto integrator = std::make_unique<DPDIntegrator>(reducedTemperature, 4.5, 1.0, 0.05, "VV");
+        integrator->setRandomNumberSeed(77);
+        return integrator;
+    }, 30);
     EXPECT_LT(maxAbsDifference(result[0].positions, result[1].positions), 1e-8);
     EXPECT_LT(maxAbsDifference(result[0].velocities, result[1].velocities), 1e-8);
     EXPECT_GT(maxAbsDifference(result[0].positions, start.fluid.positions), 0.1);

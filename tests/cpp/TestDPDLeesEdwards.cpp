@@ -96,15 +96,12 @@ INSTANTIATE_TEST_SUITE_P(AllPlatformsAndSchemes, LeesEdwards, ::testing::Combine
 TEST(LeesEdwardsPlatforms, ReferenceAndCPUAgreeForVVUnderShear) {
     // VV's sums do not depend on the pair order and both platforms draw R_ij = normal(key, i, j).
     EquilibratedFluid start = equilibratedSoftFluid(300, 3.0, 100, 8);
-    Snapshot result[2];
-    for (int k = 0; k < 2; k++) {
-        DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.01, DPDIntegrator::VV);
-        integrator.setRandomNumberSeed(11);
-        integrator.setLeesEdwards(0.2);
-        auto context = makeContext(start, integrator, allPlatforms[k]);
-        integrator.step(30);
-        result[k] = snapshot(*context);
-    }
+    std::vector<Snapshot> result = stepOnEveryPlatform(start, [] {
+        auto integrator = std::make_unique<DPDIntegrator>(reducedTemperature, 40.5, 1.0, 0.01, DPDIntegrator::VV);
+        integrator->setRandomNumberSeed(11);
+        integrator->setLeesEdwards(0.2);
+        return integrator;
+    }, 30);
     EXPECT_LT(maxAbsDifference(result[0].positions, result[1].positions), 1e-8);
     EXPECT_LT(maxAbsDifference(result[0].velocities, result[1].velocities), 1e-8);
 }

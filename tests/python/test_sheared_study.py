@@ -13,6 +13,8 @@ from openmmdpd.study.shear_report import add_viscosity_errors, relative_to_refer
 from openmmdpd.study.statistics import critical_step_size_range
 from openmmdpd.study.sweep import run_one
 
+from conftest import edited_scene
+
 SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "sheared_soft_fluid_gamma450.toml"
 
 
@@ -30,14 +32,10 @@ def test_sheared_scene_loads_with_the_papers_parameters_and_values():
 
 def test_shear_needs_a_shearable_method_and_a_rate(tmp_path):
     text = SCENE.read_text()
-    bad_method = tmp_path / "bad_method.toml"
-    bad_method.write_text(text.replace('methods = ["VV", "S1", "ABOBA"]', 'methods = ["S1", "OpenMM-DPD"]'))
     with pytest.raises(ValueError, match="cannot run under shear"):
-        load_scene(bad_method)
-    no_rate = tmp_path / "no_rate.toml"
-    no_rate.write_text(text.replace("rate = 0.2", "rate = 0.0"))
+        load_scene(edited_scene(tmp_path, text, 'methods = ["VV", "S1", "ABOBA"]', 'methods = ["S1", "OpenMM-DPD"]'))
     with pytest.raises(ValueError, match="needs a \\[shear\\] table"):
-        load_scene(no_rate)
+        load_scene(edited_scene(tmp_path, text, "rate = 0.2", "rate = 0.0"))
 
 
 def test_critical_step_range_brackets_the_crossing_on_synthetic_data():

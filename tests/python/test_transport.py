@@ -14,6 +14,8 @@ from openmmdpd.transport.points import weighted_power_law
 from openmmdpd.transport.runner import SeriesSummary, Task, TaskResult, autocorrelation, colour_drift_response, run_task
 from openmmdpd.transport.scene import load_transport_scene
 
+from conftest import edited_scene
+
 SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "transport_lj_fluid.toml"
 
 
@@ -73,18 +75,11 @@ def test_transport_scene_and_its_plan():
 
 def test_scene_files_with_a_missing_table_or_a_bad_value_are_refused_by_name(tmp_path):
     text = SCENE.read_text()
-    missing = tmp_path / "missing.toml"
-    missing.write_text(text.replace("[size_scan]", "[size_scan_typo]"))
-    with pytest.raises(ValueError, match="no 'size_scan'"):
-        load_transport_scene(missing)
-    odd = tmp_path / "odd.toml"
-    odd.write_text(text.replace("num_particles = [250, 500, 1000, 2000]", "num_particles = [251, 500]"))
-    with pytest.raises(ValueError, match="size_scan.num_particles"):
-        load_transport_scene(odd)
-    negative = tmp_path / "negative.toml"
-    negative.write_text(text.replace("sinusoidal = [0.25, 1.0, 4.0, 8.0]", "sinusoidal = [-0.25]"))
-    with pytest.raises(ValueError, match="response_curves.sinusoidal"):
-        load_transport_scene(negative)
+    for old, new, message in (("[size_scan]", "[size_scan_typo]", "no 'size_scan'"),
+                              ("num_particles = [250, 500, 1000, 2000]", "num_particles = [251, 500]", "size_scan.num_particles"),
+                              ("sinusoidal = [0.25, 1.0, 4.0, 8.0]", "sinusoidal = [-0.25]", "response_curves.sinusoidal")):
+        with pytest.raises(ValueError, match=message):
+            load_transport_scene(edited_scene(tmp_path, text, old, new))
 
 
 def test_large_systems_shorten_forced_runs_but_not_equilibrium_runs():
