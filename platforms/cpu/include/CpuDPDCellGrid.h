@@ -39,15 +39,15 @@ public:
      * Sorting the particles into cells at least `radius` thick, in four phases so that the engine
      * can run the per-particle ones on its threads: prepare (lay the cells out for this box, size the
      * arrays; throws if the box is too thin for the radius), locate particles [begin, end) (returns
-     * the first with a non-finite position, or -1), sortByCell (serial), gatherSortedPositions.
+     * the first with a non-finite position, or -1), the counting sort by cell, gatherSortedPositions.
      */
     void prepare(int numParticles, const OpenMM::Vec3* box, double radius);
     int locate(const std::vector<OpenMM::Vec3>& positions, int begin, int end);
-    void sortByCell();
     /**
-     * sortByCell on several threads, with the same result (a stable counting sort): every thread t
-     * of numThreads calls the four phases in turn, for its particles [begin, end) (consecutive ranges
-     * in thread order), with a barrier between phases; setNumThreads first, outside the threads.
+     * A stable counting sort by cell (within a cell, particles keep their order in the System), on
+     * any number of threads with the same result: every thread t of numThreads calls the four phases
+     * in turn, for its particles [begin, end) (consecutive ranges in thread order), with a barrier
+     * between phases; setNumThreads first, outside the threads.
      */
     void setNumThreads(int numThreads) { threadSlots.resize(numThreads); blockTotal.resize(numThreads); }
     void countByCell(int thread, int begin, int end);
@@ -79,7 +79,7 @@ private:
     int interiorOffset[halfStencilSize] = {};  // the half stencil of a cell that wraps on no axis, as index offsets
     OpenMM::Vec3 boxVectors[3];
     double layoutRadius = -1.0;
-    std::vector<int> cellOfParticle, fill;
+    std::vector<int> cellOfParticle;
     std::vector<std::vector<int>> threadSlots; // per thread and cell: its particle count, then its first slot
     std::vector<int> blockTotal;               // per thread: the particles in its block of cells
     /** The block of cells [begin, end) whose offsets a thread computes. */

@@ -196,19 +196,6 @@ int CpuDPDCellGrid::locate(const std::vector<Vec3>& positions, int begin, int en
     return -1;
 }
 
-void CpuDPDCellGrid::sortByCell() {
-    // A stable counting sort: within a cell, particles keep their order in the System.
-    int numParticles = static_cast<int>(cellOfParticle.size()), numCells = cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2];
-    cellStart.assign(numCells+1, 0);
-    for (int i = 0; i < numParticles; i++)
-        cellStart[cellOfParticle[i]+1]++;
-    for (int cell = 0; cell < numCells; cell++)
-        cellStart[cell+1] += cellStart[cell];
-    fill.assign(cellStart.begin(), cellStart.end()-1);
-    for (int i = 0; i < numParticles; i++)
-        sortedToOriginal[fill[cellOfParticle[i]]++] = i;
-}
-
 void CpuDPDCellGrid::countByCell(int thread, int begin, int end) {
     std::vector<int>& count = threadSlots[thread];
     count.assign(getNumCells(), 0);

@@ -174,17 +174,13 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
         for (int bad : nonFinite)
             if (bad >= 0)
                 return; // thrown below, outside the threads
-        if (numThreads == 1)
-            grid.sortByCell();
-        else { // the same counting sort in parallel phases
-            grid.countByCell(thread, first, last);
-            barrier.wait();
-            grid.sumCellBlock(thread);
-            barrier.wait();
-            grid.placeCellBlock(thread);
-            barrier.wait();
-            grid.scatterByCell(thread, first, last);
-        }
+        grid.countByCell(thread, first, last); // the counting sort by cell, in phases
+        barrier.wait();
+        grid.sumCellBlock(thread);
+        barrier.wait();
+        grid.placeCellBlock(thread);
+        barrier.wait();
+        grid.scatterByCell(thread, first, last);
         barrier.wait();
         grid.gatherSortedPositions(first, last);
         if (repulsion != nullptr) {
