@@ -1,17 +1,19 @@
 // The CPU platform's pair engine (CpuDPDPairEngine): its own cell list over the box's fractional
-// coordinates and colour-by-colour sweeps.  What it promises beyond the shared scheme tests:
+// coordinates and colour-by-colour sweeps over blocks of cells.  What it promises beyond the shared scheme tests:
 //  - the pair set is exact in boxes of every shape the cell list can meet (2, 3, 4, 5 and 7 cells
 //    along an axis, tilted boxes, a cutoff tiny against the box), checked against a direct sum;
 //  - trajectories do not depend on the number of threads, bit for bit, for every scheme, with the
-//    DPDForce's pairs and with the integrator's own pairs, and for Norton dynamics (32 000 particles:
-//    a large box is swept in slabs; below about 8 cells per thread and colour the engine keeps one thread);
+//    DPDForce's pairs and with the integrator's own pairs, and for Norton dynamics (32 000 particles;
+//    below about 8 cells per thread and colour the engine keeps one thread);
 //  - a non-finite position is refused with the particle's index, never binned.
 
+#include "CpuDPDCellGrid.h"
 #include "DPDTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/VerletIntegrator.h"
 #include "openmmdpd/DPDShearProfile.h"
 #include <gtest/gtest.h>
+#include <set>
 
 using namespace OpenMM;
 using namespace OpenMMDPD;
@@ -61,7 +63,7 @@ Snapshot runWithThreads(const System& system, Integrator& integrator, const Equi
 TEST(CpuPairEngine, ExactPairsInBoxesOfTwoToSevenCellsPerAxis) {
     // Box edges 2.0-7.9 nm with r_c = 1 nm: 2, 3, 4, 5 and 7 cells along the axes, so stencil neighbours
     // that coincide (2 cells: the same neighbour through two lattice shifts), and axes whose cell
-    // count is not a multiple of 3 (the extra colours).
+    // count is odd or below 4 (blocks of 3 cells, an axis of one block).
     const double edges[][3] = {{2.0, 2.5, 3.2}, {3.0, 4.4, 5.1}, {7.9, 2.2, 4.0}};
     unsigned seed = 1;
     for (const auto& edge : edges) {
@@ -69,6 +71,38 @@ TEST(CpuPairEngine, ExactPairsInBoxesOfTwoToSevenCellsPerAxis) {
                                      Vec3(0, 0, edge[2]), seed++);
         SCOPED_TRACE("box " + std::to_string(edge[0]) + " x " + std::to_string(edge[1]) + " x " + std::to_string(edge[2]));
         expectCpuMatchesDirectSum(fluid, 1.0);
+    }
+}
+
+TEST(CpuPairEngine, BlocksOfOneColourShareNoCell) {
+    // The parallel sweep's premise: the cells that two blocks of one colour touch (their own and
+    // their cells' half stencils) are disjoint, for every cell count per axis from 2 to 11, and the
+    // sweep order visits every cell once.
+    const int counts[][3] = {{2, 3, 4}, {5, 6, 7}, {8, 9, 11}, {4, 4, 4}, {22, 5, 3}, {10, 2, 9}};
+    for (const auto& n : counts) {
+        SCOPED_TRACE("cells " + std::to_string(n[0]) + " x " + std::to_string(n[1]) + " x " + std::to_string(n[2]));
+        Vec3 box[3] = {Vec3(n[0]+0.5, 0, 0), Vec3(0, n[1]+0.5, 0), Vec3(0, 0, n[2]+0.5)};
+        CpuDPDCellGrid grid;
+        grid.prepare(100000, box, 1.0);
+        ASSERT_EQ(grid.getNumCells(), n[0]*n[1]*n[2]);
+        std::vector<int> visits(grid.getNumCells(), 0);
+        for (int cell : grid.cellsInSweepOrder)
+            visits[cell]++;
+        EXPECT_EQ(std::count(visits.begin(), visits.end(), 1), grid.getNumCells());
+        EXPECT_LE(grid.getNumColors(), 8);
+        for (int color = 0; color < grid.getNumColors(); color++) {
+            std::vector<int> toucher(grid.getNumCells(), -1);
+            for (int block = grid.colorBlockStart[color]; block < grid.colorBlockStart[color+1]; block++)
+                for (int k = grid.blockStart[block]; k < grid.blockStart[block+1]; k++) {
+                    CpuDPDCellGrid::Neighbor stencil[CpuDPDCellGrid::halfStencilSize];
+                    grid.getHalfStencil(grid.cellsInSweepOrder[k], stencil);
+                    for (const CpuDPDCellGrid::Neighbor& neighbor : stencil) {
+                        EXPECT_TRUE(toucher[neighbor.cell] == -1 || toucher[neighbor.cell] == block)
+                            << "colour " << color << ": cell " << neighbor.cell << " in reach of blocks " << toucher[neighbor.cell] << " and " << block;
+                        toucher[neighbor.cell] = block;
+                    }
+                }
+        }
     }
 }
 
@@ -90,9 +124,8 @@ TEST(CpuPairEngine, TinyCutoffInALargeBoxNeedsNoHugeGrid) {
 }
 
 TEST(CpuPairEngine, TrajectoriesAreBitIdenticalForOneTwoAndSixteenThreads) {
-    // 32 000 particles: 22 cells per axis, swept in three slabs of z layers with 27 colours each, about
-    // 130 cells per colour: enough for 16 threads to share (the engine gives a list too small to share
-    // to one thread).  The sweep order and every sum a particle receives depend only on the positions.
+    // 32 000 particles: 22 cells per axis in 10 blocks of 2-3 cells per axis, 8 colours of 125 blocks:
+    // enough for 16 threads to share (the engine gives a list too small to share to one thread).  The sweep order and every sum a particle receives depend only on the positions.
     EquilibratedFluid start = equilibratedSoftFluid(32000, 3.0, 10);
     for (const std::string& scheme : allSchemes) {
         Snapshot result[3];

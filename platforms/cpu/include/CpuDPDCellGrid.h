@@ -13,13 +13,11 @@ namespace OpenMMDPD {
  * or in two neighbouring ones, whatever the tilt.  Particles are wrapped into the box and sorted by
  * cell (stable, so the order depends only on the positions), giving contiguous per-cell arrays.
  *
- * Cells are coloured so that two cells of one colour are at least 3 cells apart along some axis:
- * the pairs of a cell and its half stencil of 13 neighbours then share no particle with those of
- * another cell of the same colour, and the cells of one colour can be swept in parallel.  Per axis
- * the colour is k mod 3, with the 1 or 2 leftover cells of an axis whose count is not a multiple of 3
- * getting colours of their own (and every cell its own colour on an axis of 1 or 2 cells).  A large
- * box is swept in slabs of z layers, one after another, each with its own colours (layOut), so that
- * the data a colour touches stays within a slab.
+ * Cells are grouped into blocks of 2-3 cells along each axis, an even number of blocks per axis, and
+ * the blocks are coloured by the parity of their index along each axis (8 colours): the pairs of a
+ * block's cells with their half stencils of 13 neighbours reach at most one cell into the next
+ * block, so they share no particle with those of another block of the same colour, and the blocks
+ * of one colour can be swept in parallel.  An axis of fewer than 4 cells is one block.
  */
 class CpuDPDCellGrid {
 public:
@@ -45,15 +43,16 @@ public:
     int locate(const std::vector<OpenMM::Vec3>& positions, int begin, int end);
     /**
      * A stable counting sort by cell (within a cell, particles keep their order in the System), on
-     * any number of threads with the same result: every thread t of numThreads calls the four phases
-     * in turn, for its particles [begin, end) (consecutive ranges in thread order), with a barrier
-     * between phases; setNumThreads first, outside the threads.
+     * any number of threads with the same result: thread t of numThreads owns block t of the cells
+     * (consecutive by index) and calls countCellBlock, then after a barrier placeCellBlock (its cells'
+     * slots and its particles), then may gather the positions of its sorted range (sortedRangeOfThread)
+     * at once; setNumThreads first, outside the threads.
      */
     void setNumThreads(int numThreads) { threadSlots.resize(numThreads); blockTotal.resize(numThreads); }
-    void countByCell(int thread, int begin, int end);
-    void sumCellBlock(int thread);
+    void countCellBlock(int thread);
     void placeCellBlock(int thread);
-    void scatterByCell(int thread, int begin, int end);
+    /** The sorted particles [begin, end) of thread t's block of cells (after placeCellBlock). */
+    void sortedRangeOfThread(int thread, int& begin, int& end) const;
     void gatherSortedPositions(int begin, int end);
     /** The OpenMMException for a particle whose position is not finite. */
     [[noreturn]] static void throwNonFinite(const std::vector<OpenMM::Vec3>& positions, int particle);
@@ -70,8 +69,12 @@ public:
     std::vector<double> sortedX, sortedY, sortedZ;
     /** The lattice shift of each image code, one array per coordinate (nm). */
     double imageShiftX[27], imageShiftY[27], imageShiftZ[27];
-    /** The cells in sweep order: colour by colour, by index within a colour; colour k is [colorStart[k], colorStart[k+1]). */
-    std::vector<int> cellsInSweepOrder, colorStart;
+    /**
+     * The cells in sweep order: colour by colour, block by block, by index within a block.
+     * Colour k is cells [colorStart[k], colorStart[k+1]) of that order and blocks
+     * [colorBlockStart[k], colorBlockStart[k+1]); block b is cells [blockStart[b], blockStart[b+1]).
+     */
+    std::vector<int> cellsInSweepOrder, colorStart, colorBlockStart, blockStart;
 
 private:
     void layOut(const OpenMM::Vec3* box, double radius);
@@ -80,7 +83,7 @@ private:
     OpenMM::Vec3 boxVectors[3];
     double layoutRadius = -1.0;
     std::vector<int> cellOfParticle;
-    std::vector<std::vector<int>> threadSlots; // per thread and cell: its particle count, then its first slot
+    std::vector<std::vector<int>> threadSlots; // per thread and cell of its block (and a spare): its particle count, then its next slot
     std::vector<int> blockTotal;               // per thread: the particles in its block of cells
     /** The block of cells [begin, end) whose offsets a thread computes. */
     void cellBlock(int thread, int& begin, int& end) const {

@@ -14,11 +14,11 @@ namespace OpenMMDPD {
 /**
  * The CPU platform's DPD pairs: its own cell list (CpuDPDCellGrid) searched from scratch at every
  * evaluation, the conservative force added in the same pass, and pair sweeps that run colour by
- * colour.  Within a colour, cells share no particle, so the threads take contiguous runs of its
- * cells and update velocities (or forces) without locks; colours follow one another behind a barrier.
+ * colour.  Within a colour, blocks of cells share no particle, so the threads take contiguous runs of
+ * its blocks and update velocities (or forces) without locks; colours follow one another behind a barrier.
  *
- * The pair order is therefore: colour by colour; within a colour, cell by cell in index order;
- * within a cell, its particles in sorted order, each with the cell itself and then its 13 half-stencil
+ * The pair order is therefore: colour by colour (CpuDPDCellGrid); within a colour,
+ * block by block and cell by cell in index order; within a cell, its particles in sorted order, each with the cell itself and then its 13 half-stencil
  * neighbours.  It depends only on the positions, not on the number of threads, and every sum a
  * particle receives is taken in that order: trajectories are bit-identical for any thread count.
  * Pairs are held as two indices and an image code; every geometric quantity is computed in double precision.
@@ -46,14 +46,14 @@ private:
      * CpuDPDCellGrid), 12 bytes a pair; [0, size) is in use.  Distances and unit vectors are recomputed
      * from the sorted positions by each sweep's vector pass, which is cheaper than storing them.
      */
-    struct PairBuffer {
+    struct alignas(64) PairBuffer { // one cache line or more of its own: size changes with every particle searched
         std::size_t size = 0;
         std::vector<int> i, j;
         std::vector<int> image;
         void reserveMore(std::size_t count);
     };
     /** A thread's scratch for one cell: its half stencil's particles at their shifted positions, the distance filter's hits, the cell's pair geometry. */
-    struct CandidateSet {
+    struct alignas(64) CandidateSet {
         std::vector<int> index;
         std::vector<int> image;
         std::vector<double> x, y, z, ex, ey, ez, forceMagnitude;

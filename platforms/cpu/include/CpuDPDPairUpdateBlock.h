@@ -17,7 +17,7 @@ namespace OpenMMDPD {
  * path wherever it sits in a run: the numbers, and so the trajectory, do not depend on how the pairs
  * are split among threads.
  */
-class CpuDPDPairUpdateBlock {
+class alignas(64) CpuDPDPairUpdateBlock { // one per thread, each on cache lines of its own
 public:
     enum Kind { OrnsteinUhlenbeck, BBK, DissipativeAndRandomForce };
     static constexpr std::size_t blockSize = 8;

@@ -9,16 +9,18 @@ using OpenMM::Vec3;
 
 namespace {
 
-/** The colour of cell k of n along one axis, and the number of colours of that axis (see the class comment). */
-int axisColor(int k, int n) {
-    if (n < 3)
-        return k;
-    int whole = 3*(n/3);
-    return k < whole ? k%3 : 3+(k-whole);
+/**
+ * The blocks of one axis of n cells: an even number of blocks, each at least 2 cells wide, so that a
+ * block and the half stencils of its cells (which reach one cell back and one forward) never meet
+ * the next block but one, even across the periodic wrap.  An axis of fewer than 4 cells is one block.
+ * Block b holds cells [b n/nb, (b+1) n/nb).
+ */
+int axisBlocks(int n) {
+    return n < 4 ? 1 : 2*(n/4);
 }
 
-int axisColors(int n) {
-    return n < 3 ? n : 3+n%3;
+int axisBlockStart(int block, int n) {
+    return static_cast<int>(static_cast<long long>(block)*n/axisBlocks(n));
 }
 
 } // namespace
@@ -60,33 +62,40 @@ void CpuDPDCellGrid::layOut(const Vec3* box, double radius) {
         imageShiftZ[image] = shift[2];
     }
 
-    // Sweep order: slabs of whole z layers one after another (so a colour's cells, and the data they
-    // touch, stay within one slab: a large box is swept with the cache's help), within a slab colour
-    // by colour, within a colour by cell index.  A slab is a multiple of 3 layers holding at least
-    // cellsPerSlab cells; within a slab of several, z is coloured z mod 3 without wrapping (slabs run
-    // one after another, so cells of different slabs never need to differ in colour).  A counting sort
-    // of the cells by group (slab, colour).
-    const int cellsPerSlab = 4096;
-    int layers = cellsPerAxis[2], layerCells = cellsPerAxis[0]*cellsPerAxis[1];
-    int thickness = 3*std::max(1, (cellsPerSlab+3*layerCells-1)/(3*layerCells));
-    int numSlabs = thickness >= layers ? 1 : (layers+thickness-1)/thickness;
-    int colors[3] = {axisColors(cellsPerAxis[0]), axisColors(cellsPerAxis[1]), numSlabs == 1 ? axisColors(layers) : 3};
-    int colorsPerSlab = colors[0]*colors[1]*colors[2], numColors = numSlabs*colorsPerSlab;
-    std::vector<int> colorOfCell(numCells);
-    colorStart.assign(numColors+1, 0);
-    for (int z = 0, cell = 0; z < layers; z++)
-        for (int y = 0; y < cellsPerAxis[1]; y++)
-            for (int x = 0; x < cellsPerAxis[0]; x++, cell++) {
-                int slab = numSlabs == 1 ? 0 : z/thickness, zColor = numSlabs == 1 ? axisColor(z, layers) : (z-slab*thickness)%3;
-                colorOfCell[cell] = slab*colorsPerSlab+(zColor*colors[1]+axisColor(y, cellsPerAxis[1]))*colors[0]+axisColor(x, cellsPerAxis[0]);
-                colorStart[colorOfCell[cell]+1]++;
+    // Sweep order.  The cells are grouped into blocks of 2-3 cells along each axis (axisBlocks), and
+    // the blocks are coloured by the parity of their block index along each axis (8 colours; 4 or 2
+    // with axes of one block): a block's pairs reach at most one cell into the neighbouring blocks,
+    // so blocks of one colour share no particle.  Colour by colour; within a colour block by block in
+    // index order (z slowest), within a block cell by cell in index order.  Few colours mean few
+    // barriers, and the threads, which take consecutive blocks of each colour, each work in the same
+    // range of z in every colour, on the particles they sorted (a block's 8-27 cells share most of
+    // their stencils, so a block is swept with the cache's help).
+    int blocks[3], blockColors[3];
+    for (int k = 0; k < 3; k++) {
+        blocks[k] = axisBlocks(cellsPerAxis[k]);
+        blockColors[k] = std::min(2, blocks[k]);
+    }
+    cellsInSweepOrder.clear();
+    cellsInSweepOrder.reserve(numCells);
+    colorStart.assign(1, 0);
+    blockStart.clear();
+    colorBlockStart.assign(1, 0);
+    for (int zColor = 0; zColor < blockColors[2]; zColor++)
+        for (int yColor = 0; yColor < blockColors[1]; yColor++)
+            for (int xColor = 0; xColor < blockColors[0]; xColor++) {
+                for (int bz = zColor; bz < blocks[2]; bz += blockColors[2])
+                    for (int by = yColor; by < blocks[1]; by += blockColors[1])
+                        for (int bx = xColor; bx < blocks[0]; bx += blockColors[0]) {
+                            blockStart.push_back(static_cast<int>(cellsInSweepOrder.size()));
+                            for (int z = axisBlockStart(bz, cellsPerAxis[2]); z < axisBlockStart(bz+1, cellsPerAxis[2]); z++)
+                                for (int y = axisBlockStart(by, cellsPerAxis[1]); y < axisBlockStart(by+1, cellsPerAxis[1]); y++)
+                                    for (int x = axisBlockStart(bx, cellsPerAxis[0]); x < axisBlockStart(bx+1, cellsPerAxis[0]); x++)
+                                        cellsInSweepOrder.push_back((z*cellsPerAxis[1]+y)*cellsPerAxis[0]+x);
+                        }
+                colorStart.push_back(static_cast<int>(cellsInSweepOrder.size()));
+                colorBlockStart.push_back(static_cast<int>(blockStart.size()));
             }
-    for (int color = 0; color < numColors; color++)
-        colorStart[color+1] += colorStart[color];
-    cellsInSweepOrder.resize(numCells);
-    std::vector<int> next(colorStart.begin(), colorStart.end()-1);
-    for (int cell = 0; cell < numCells; cell++)
-        cellsInSweepOrder[next[colorOfCell[cell]]++] = cell;
+    blockStart.push_back(numCells);
 }
 
 void CpuDPDCellGrid::prepare(int numParticles, const Vec3* box, double radius) {
@@ -196,45 +205,60 @@ int CpuDPDCellGrid::locate(const std::vector<Vec3>& positions, int begin, int en
     return -1;
 }
 
-void CpuDPDCellGrid::countByCell(int thread, int begin, int end) {
-    std::vector<int>& count = threadSlots[thread];
-    count.assign(getNumCells(), 0);
-    for (int i = begin; i < end; i++)
-        count[cellOfParticle[i]]++;
-}
-
-void CpuDPDCellGrid::sumCellBlock(int thread) {
-    int first, last, total = 0;
+void CpuDPDCellGrid::countCellBlock(int thread) {
+    // Every thread reads all the particles' cells and counts those of its own block of cells (one
+    // pass over an int array, no branch: a particle of another block is counted in a spare slot).
+    int first, last;
     cellBlock(thread, first, last);
-    for (const std::vector<int>& count : threadSlots)
-        for (int cell = first; cell < last; cell++)
-            total += count[cell];
+    int blockCells = last-first;
+    std::vector<int>& count = threadSlots[thread];
+    count.assign(blockCells+1, 0);
+    const int* cellOf = cellOfParticle.data();
+    for (int i = 0, n = static_cast<int>(cellOfParticle.size()); i < n; i++) {
+        unsigned local = static_cast<unsigned>(cellOf[i]-first);
+        count[local < static_cast<unsigned>(blockCells) ? local : blockCells]++;
+    }
+    int total = 0;
+    for (int cell = 0; cell < blockCells; cell++)
+        total += count[cell];
     blockTotal[thread] = total;
 }
 
 void CpuDPDCellGrid::placeCellBlock(int thread) {
-    // A cell's particles are those of thread 0, then thread 1 ..., each in System order: the order
-    // of the serial sort.
+    // The block's cells follow those of the blocks before it; within a cell, particles keep their
+    // order in the System (a stable sort).  Only this thread writes the block's slots.
     int first, last, slot = 0;
     cellBlock(thread, first, last);
+    int blockCells = last-first;
     for (int t = 0; t < thread; t++)
         slot += blockTotal[t];
-    for (int cell = first; cell < last; cell++) {
-        cellStart[cell] = slot;
-        for (std::vector<int>& count : threadSlots) {
-            int particles = count[cell];
-            count[cell] = slot;
-            slot += particles;
-        }
+    std::vector<int>& next = threadSlots[thread];
+    for (int cell = 0; cell < blockCells; cell++) {
+        cellStart[first+cell] = slot;
+        int particles = next[cell];
+        next[cell] = slot;
+        slot += particles;
     }
     if (thread == static_cast<int>(threadSlots.size())-1)
         cellStart[getNumCells()] = static_cast<int>(cellOfParticle.size());
+    int spare;
+    int* sorted = sortedToOriginal.data();
+    const int* cellOf = cellOfParticle.data();
+    for (int i = 0, n = static_cast<int>(cellOfParticle.size()); i < n; i++) {
+        unsigned local = static_cast<unsigned>(cellOf[i]-first);
+        bool mine = local < static_cast<unsigned>(blockCells);
+        int& position = next[mine ? local : blockCells];
+        *(mine ? sorted+position : &spare) = i;
+        position += mine;
+    }
 }
 
-void CpuDPDCellGrid::scatterByCell(int thread, int begin, int end) {
-    int* slot = threadSlots[thread].data();
-    for (int i = begin; i < end; i++)
-        sortedToOriginal[slot[cellOfParticle[i]]++] = i;
+void CpuDPDCellGrid::sortedRangeOfThread(int thread, int& begin, int& end) const {
+    // From the block totals, not cellStart: the next block's first entry may not be written yet.
+    begin = 0;
+    for (int t = 0; t < thread; t++)
+        begin += blockTotal[t];
+    end = begin+blockTotal[thread];
 }
 
 void CpuDPDCellGrid::gatherSortedPositions(int begin, int end) {
