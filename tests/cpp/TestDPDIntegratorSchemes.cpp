@@ -2,9 +2,10 @@
 // on the Reference and CPU platforms: exact conservation of total linear momentum, the zero-friction
 // limits (position Verlet for ABOBA, velocity Verlet for VV and S1, energy conservation, no
 // randomness), detection of unstable runs, integration force groups, per-type-pair friction and
-// cutoffs, and particles of zero mass.
+// cutoffs, particles of zero mass, and DPDForces evaluated directly as the Context would.
 
 #include "DPDTestSupport.h"
+#include "openmm/CustomExternalForce.h"
 #include "openmm/CustomNonbondedForce.h"
 #include <gtest/gtest.h>
 #include <sstream>
@@ -156,6 +157,26 @@ TEST_P(EveryPlatformAndScheme, ParticlesOfZeroMassDoNotMove) {
     }
     EXPECT_GT(maxAbsDifference(after.positions, fluid.positions), 0.5);
     EXPECT_TRUE(std::isfinite(maxNorm(after.velocities)));
+}
+
+TEST_P(EveryPlatformAndScheme, DPDForcesAloneAreEvaluatedDirectlyWithTheContextsBits) {
+    // With DPDForces alone in the integration groups a step evaluates them itself and skips the
+    // platform's begin and end of a force evaluation; an idle force in the same group (a
+    // CustomExternalForce acting on no particle) sends every step through the Context's evaluation.
+    // The two runs must agree bit for bit (a force not cleared, or evaluated twice, would not).
+    EquilibratedFluid direct = equilibratedSoftFluid(300, 3.0, 50);
+    EquilibratedFluid throughContext = equilibratedSoftFluid(300, 3.0, 50);
+    throughContext.fluid.system->addForce(new CustomExternalForce("0"));
+    Snapshot result[2];
+    for (int k = 0; k < 2; k++) {
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme());
+        integrator.setRandomNumberSeed(17);
+        auto context = makeContext(k == 0 ? direct : throughContext, integrator, platformName());
+        integrator.step(20);
+        result[k] = snapshot(*context);
+    }
+    EXPECT_TRUE(bitIdentical(result[0], result[1]));
+    EXPECT_GT(maxAbsDifference(result[0].positions, direct.fluid.positions), 0.1);
 }
 
 INSTANTIATE_TEST_SUITE_P(Schemes, EveryPlatformAndScheme,

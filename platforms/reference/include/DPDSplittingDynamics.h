@@ -114,6 +114,11 @@ private:
     unsigned long long sweepCounter = 0;
 
     ReferenceCalcDPDForceKernel* sharedForceKernel = nullptr;
+    // When the integration groups hold DPDForces alone and no virtual site spreads forces, a step asks
+    // them directly (evaluateForcesAndPairs) once the Context has evaluated its forces the usual way.
+    bool forcesFromDPDForcesAlone = false;
+    std::vector<OpenMM::ForceImpl*> integratedForceImpls;
+    bool contextEvaluatedForces = false;
     std::unique_ptr<DPDPairEngine> ownEngine;
     DPDPairEngine* pairsAtCurrentPositions = nullptr; // the engine holding the pairs at the current positions
 

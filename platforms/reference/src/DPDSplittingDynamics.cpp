@@ -99,6 +99,19 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
     if (integrator.getShearRate() != 0.0)
         DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
 
+    // The usual DPD fluid's forces come from DPDForces alone.  A step then evaluates them directly and
+    // skips the platform's own begin and end of a force evaluation, which on the CPU platform convert
+    // the positions for OpenMM's kernels, clear and sum per-thread force arrays and hand work to its
+    // threads twice: work for forces this System does not have.  Virtual sites need that end (it
+    // spreads their forces), so they keep the usual evaluation.
+    forcesFromDPDForcesAlone = virtualSites.empty();
+    for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
+        if ((integrationGroups & (1 << impl->getOwner().getForceGroup())) == 0)
+            continue;
+        forcesFromDPDForcesAlone &= dynamic_cast<DPDForceImpl*>(impl) != nullptr;
+        integratedForceImpls.push_back(impl);
+    }
+
     // Share the DPDForce's pair list when its search radius covers every dissipative cutoff and it is
     // evaluated with the integration force groups (checked again at every evaluation).
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
@@ -211,7 +224,18 @@ bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector
 
 DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context) {
     long long evaluationsBefore = sharedForceKernel ? sharedForceKernel->getEvaluationCount() : 0;
-    context.calcForcesAndEnergy(true, false, integrationGroups);
+    if (forcesFromDPDForcesAlone && contextEvaluatedForces) {
+        // What the Context's evaluation does for these forces: clear, then each adds its own.  The
+        // first evaluation goes through the Context, which checks that positions have been set.
+        std::vector<Vec3>& forces = arrays(context).forces;
+        std::fill(forces.begin(), forces.end(), Vec3());
+        for (OpenMM::ForceImpl* impl : integratedForceImpls)
+            impl->calcForcesAndEnergy(context, true, false, integrationGroups);
+    }
+    else {
+        context.calcForcesAndEnergy(true, false, integrationGroups);
+        contextEvaluatedForces = true;
+    }
     if (!ownEngine)
         ownEngine = makeEngine();
     if (friction.allValuesZero)
