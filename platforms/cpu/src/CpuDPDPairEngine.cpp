@@ -257,17 +257,24 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
         barrier.wait();
         PairBuffer& buffer = buffers[thread];
         CpuDPDPairUpdateBlock& block = blocks[thread];
+        // A thread's cells of one colour are consecutive in its buffer.  They are taken in runs of
+        // whole cells of about pairsPerPass pairs: the coefficients of a run are still in the cache
+        // when its cells are swept, and the block's arrays stay small.  The coefficients do not depend
+        // on where the runs start (CpuDPDPairUpdateBlock), so neither do the bits.
+        const int pairsPerPass = 8192;
+        const int* cells = grid.cellsInSweepOrder.data();
         for (int color = 0; color < grid.getNumColors(); color++) {
             int begin, end;
             cellsOfThread(color, thread, begin, end);
-            if (begin < end) {
-                // A thread's cells of one colour are consecutive in its buffer.
-                int first = cellPairBegin[grid.cellsInSweepOrder[begin]], last = cellPairEnd[grid.cellsInSweepOrder[end-1]];
+            for (int runBegin = begin, runEnd; runBegin < end; runBegin = runEnd) {
+                int first = cellPairBegin[cells[runBegin]];
+                runEnd = runBegin+1;
+                while (runEnd < end && cellPairEnd[cells[runEnd]]-first <= pairsPerPass)
+                    runEnd++;
+                int last = cellPairEnd[cells[runEnd-1]];
                 block.compute(kind, sweep, particles, last-first, &buffer.i[first], &buffer.j[first], &buffer.image[first]);
-                for (int k = begin; k < end; k++) {
-                    int cell = grid.cellsInSweepOrder[k];
-                    apply(thread, cell, cellPairBegin[cell], cellPairEnd[cell], block, first);
-                }
+                for (int k = runBegin; k < runEnd; k++)
+                    apply(thread, cells[k], cellPairBegin[cells[k]], cellPairEnd[cells[k]], block, first);
             }
             barrier.wait();
         }
