@@ -54,10 +54,14 @@ private:
     };
     /** A thread's scratch for one cell: its half stencil's particles at their shifted positions, the distance filter's hits, the cell's pair geometry. */
     struct alignas(64) CandidateSet {
-        std::vector<int> index;
-        std::vector<int> image;
-        std::vector<double> x, y, z, ex, ey, ez, forceMagnitude;
+        int *index = nullptr, *image = nullptr;
+        double *x = nullptr, *y = nullptr, *z = nullptr, *ex = nullptr, *ey = nullptr, *ez = nullptr, *forceMagnitude = nullptr;
         void resize(int count, std::size_t maxPairs);
+
+    private:
+        int candidateCapacity = -1;
+        std::size_t pairCapacity = 0;
+        std::vector<double> storage; // every array above, each starting at its own offset within a 4 KiB page
     };
     /** Run body(thread) on every thread (directly when there is one). */
     void onThreads(const std::function<void(int)>& body);
