@@ -8,12 +8,16 @@
 //  - a non-finite position is refused with the particle's index, never binned.
 
 #include "CpuDPDCellGrid.h"
+#include "CpuDPDThreadTeam.h"
 #include "DPDTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/VerletIntegrator.h"
 #include "openmmdpd/DPDShearProfile.h"
 #include <gtest/gtest.h>
+#include <atomic>
+#include <chrono>
 #include <set>
+#include <thread>
 
 using namespace OpenMM;
 using namespace OpenMMDPD;
@@ -104,6 +108,38 @@ TEST(CpuPairEngine, BlocksOfOneColourShareNoCell) {
                 }
         }
     }
+}
+
+TEST(CpuPairEngine, ThreadTeamRunsEveryThreadOncePerTaskAndPassesExceptionsOn) {
+    // Every task runs body(t) exactly once for each t, whether the workers are still spinning from the
+    // last task or have gone to sleep (a pause longer than their spin), and a task never starts before
+    // the previous one has ended on every thread.
+    auto team = CpuDPDThreadTeam::shared(4);
+    EXPECT_EQ(team, CpuDPDThreadTeam::shared(4)); // engines with the same thread count share it
+    std::vector<std::atomic<int>> runs(4);
+    std::atomic<int> running{0}, overlaps{0};
+    for (int task = 0; task < 300; task++) {
+        if (task%100 == 99)
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        team->run([&](int thread) {
+            if (running.fetch_add(1) >= 4)
+                overlaps++;
+            runs[thread]++;
+            running.fetch_sub(1);
+        });
+        EXPECT_EQ(running.load(), 0);
+    }
+    for (int thread = 0; thread < 4; thread++)
+        EXPECT_EQ(runs[thread].load(), 300) << "thread " << thread;
+    EXPECT_EQ(overlaps.load(), 0);
+    // An exception thrown on a worker reaches the caller, and the team keeps working.
+    EXPECT_THROW(team->run([](int thread) {
+        if (thread == 2)
+            throw OpenMMException("from thread 2");
+    }), OpenMMException);
+    std::atomic<int> after{0};
+    team->run([&](int) { after++; });
+    EXPECT_EQ(after.load(), 4);
 }
 
 TEST(CpuPairEngine, ExactPairsInStronglyTiltedBoxes) {

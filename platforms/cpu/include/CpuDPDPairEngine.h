@@ -4,9 +4,10 @@
 #include "CpuDPDCellGrid.h"
 #include "CpuDPDPairUpdateBlock.h"
 #include "CpuDPDThreadBarrier.h"
+#include "CpuDPDThreadTeam.h"
 #include "DPDPairEngine.h"
-#include "openmm/internal/ThreadPool.h"
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace OpenMMDPD {
@@ -28,7 +29,8 @@ namespace OpenMMDPD {
  */
 class CpuDPDPairEngine : public DPDPairEngine {
 public:
-    explicit CpuDPDPairEngine(OpenMM::ThreadPool& threads);
+    /** An engine working on numThreads threads (the CPU platform's Threads property). */
+    explicit CpuDPDPairEngine(int numThreads);
     double findPairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, double radius,
                      const DPDTypePairTable::Compiled* repulsion, std::vector<OpenMM::Vec3>* forces) override;
     double getRadius() const override { return radius; }
@@ -37,7 +39,7 @@ public:
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
-    /** On the thread pool when every thread gets enough particles to pay for the hand-over; else at once. */
+    /** On the engine's threads when every thread gets enough particles to pay for the hand-over; else at once. */
     void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) override;
 
 private:
@@ -94,7 +96,7 @@ private:
     /** Add the cells' stress sums to the sweep's, in sweep order. */
     void sumCellStress(const DPDPairSweep& sweep);
 
-    OpenMM::ThreadPool& threads;
+    std::shared_ptr<CpuDPDThreadTeam> threads;
     int numThreads;
     CpuDPDThreadBarrier barrier;
     CpuDPDCellGrid grid;

@@ -24,8 +24,8 @@ extern "C" OPENMM_EXPORT void registerKernelFactories() {
 
 OpenMM::KernelImpl* CpuDPDKernelFactory::createKernelImpl(std::string name, const OpenMM::Platform& platform,
                                                           OpenMM::ContextImpl& context) const {
-    OpenMM::ThreadPool& threads = OpenMM::CpuPlatform::getPlatformData(context).threads;
-    DPDPairEngineFactory makeEngine = [&threads] { return std::make_unique<CpuDPDPairEngine>(threads); };
+    int numThreads = OpenMM::CpuPlatform::getPlatformData(context).threads.getNumThreads();
+    DPDPairEngineFactory makeEngine = [numThreads] { return std::make_unique<CpuDPDPairEngine>(numThreads); };
     if (name == CalcDPDForceKernel::Name())
         return new ReferenceCalcDPDForceKernel(name, platform, makeEngine());
     if (name == IntegrateDPDStepKernel::Name())

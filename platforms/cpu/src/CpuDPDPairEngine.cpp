@@ -49,32 +49,29 @@ void CpuDPDPairEngine::CandidateSet::resize(int count, std::size_t maxPairs) {
     forceMagnitude = region[8];
 }
 
-CpuDPDPairEngine::CpuDPDPairEngine(OpenMM::ThreadPool& threads)
-    : threads(threads), numThreads(threads.getNumThreads()), barrier(numThreads), buffers(numThreads), candidateSets(numThreads),
-      blocks(numThreads) {}
+CpuDPDPairEngine::CpuDPDPairEngine(int numThreads)
+    : threads(CpuDPDThreadTeam::shared(numThreads)), numThreads(numThreads), barrier(numThreads), buffers(numThreads),
+      candidateSets(numThreads), blocks(numThreads) {}
 
 void CpuDPDPairEngine::onThreads(const std::function<void(int)>& body) {
     if (numThreads == 1) { // no hand-over to a worker thread: small systems pay no fixed cost per call
         body(0);
         return;
     }
-    threads.execute([&](OpenMM::ThreadPool&, int thread) { body(thread); });
-    threads.waitForThreads();
+    threads->run(body);
 }
 
 void CpuDPDPairEngine::forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) {
-    // A kick or drift costs a few ns a particle, a hand-over to the pool tens of microseconds (at
-    // 32 000 particles on 2 threads, serial kicks and drifts made the step faster).
-    const int minParticlesPerThread = 32768;
-    int useThreads = threads.getNumThreads();
+    // A kick or drift costs a few ns a particle, a hand-over to the team about a microsecond.
+    const int minParticlesPerThread = 4096;
+    int useThreads = threads->getNumThreads();
     if (useThreads == 1 || count < 2*minParticlesPerThread) {
         body(0, count);
         return;
     }
-    threads.execute([&](OpenMM::ThreadPool&, int thread) {
+    threads->run([&](int thread) {
         body(static_cast<int>(static_cast<long long>(count)*thread/useThreads), static_cast<int>(static_cast<long long>(count)*(thread+1)/useThreads));
     });
-    threads.waitForThreads();
 }
 
 void CpuDPDPairEngine::cellsOfThread(int color, int thread, int& begin, int& end) const {
@@ -181,7 +178,7 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
     // Threads pay off only when each has enough cells of a colour between two barriers; otherwise the
     // whole list goes to one thread.  Only the split changes, never the order: the same bits either way.
     const int minCellsPerThreadAndColor = 8;
-    numThreads = numCells >= minCellsPerThreadAndColor*threads.getNumThreads()*grid.getNumColors() ? threads.getNumThreads() : 1;
+    numThreads = numCells >= minCellsPerThreadAndColor*threads->getNumThreads()*grid.getNumColors() ? threads->getNumThreads() : 1;
     barrier.setNumThreads(numThreads);
     cellPairBegin.resize(numCells);
     cellPairEnd.resize(numCells);
