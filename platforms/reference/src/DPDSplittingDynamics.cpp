@@ -12,6 +12,7 @@
 #include <atomic>
 #include <cmath>
 #include <istream>
+#include <limits>
 #include <ostream>
 #include <random>
 #include <sstream>
@@ -139,17 +140,23 @@ int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>&
     double limit2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
     std::atomic<int> unsound{-1}; // the first unsound particle, whatever the split among threads
     ownEngine->forEachParticleRange(static_cast<int>(positions.size()), [&](int begin, int end) {
-        int firstOfRange = -1;
+        // Both tests are false for NaN; the second also catches a finite step to an infinite position.
+        // Without a branch (a massless particle takes a zero step), so that the loop is vectorised;
+        // the rare unsound range is scanned again for its first culprit.
+        auto displacementOf = [&](int i) { return inverseMasses[i] == 0.0 ? Vec3() : velocities[i]*dt; };
+        auto isSound = [&](const Vec3& displacement, const Vec3& position) {
+            return (displacement.dot(displacement) <= limit2) & (position.dot(position) <= std::numeric_limits<double>::max());
+        };
+        bool allSound = true;
         for (int i = begin; i < end; i++) {
-            if (inverseMasses[i] == 0.0)
-                continue;
-            Vec3 displacement = velocities[i]*dt;
+            Vec3 displacement = displacementOf(i);
             positions[i] += displacement;
-            // Both tests are false for NaN; the second also catches a finite step to an infinite position.
-            bool sound = displacement.dot(displacement) <= limit2 && std::isfinite(positions[i].dot(positions[i]));
-            if (!sound && firstOfRange < 0)
-                firstOfRange = i;
+            allSound &= isSound(displacement, positions[i]);
         }
+        int firstOfRange = -1;
+        for (int i = begin; i < end && !allSound && firstOfRange < 0; i++)
+            if (!isSound(displacementOf(i), positions[i]))
+                firstOfRange = i;
         int first = unsound.load();
         while (firstOfRange >= 0 && (first < 0 || firstOfRange < first) && !unsound.compare_exchange_weak(first, firstOfRange)) {
         }
@@ -212,9 +219,9 @@ bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector
     std::atomic<bool> allFinite{true};
     ownEngine->forEachParticleRange(static_cast<int>(velocities.size()), [&](int begin, int end) {
         bool finite = true;
-        for (int i = begin; i < end; i++) {
+        for (int i = begin; i < end; i++) { // no branch: vectorised
             velocities[i] += forces[i]*(dt*inverseMasses[i]);
-            finite &= std::isfinite(velocities[i][0]) && std::isfinite(velocities[i][1]) && std::isfinite(velocities[i][2]);
+            finite &= velocities[i].dot(velocities[i]) <= std::numeric_limits<double>::max();
         }
         if (!finite)
             allFinite.store(false);
