@@ -115,7 +115,7 @@ namespace {
 
 /**
  * Fractional coordinates in OpenMM's lower-triangular box: f_c = z/c_z, f_b = (y - f_c c_y)/b_y,
- * f_a = (x - f_b b_x - f_c c_x)/a_x, each reduced into [0, 1) with the position (subtracting floor(f)
+ * f_a = (x - f_b b_x - f_c c_x)/a_x (times reciprocals computed once), each reduced into [0, 1) with the position (subtracting floor(f)
  * times that box vector).  Written out per axis with no branch (GCC 12 still keeps the loop scalar
  * under a target attribute, but inlines floor as one rounding instruction where the plain build calls
  * a function); the file is compiled without contraction (-ffp-contract=off), so every instruction set
@@ -126,12 +126,13 @@ inline __attribute__((always_inline)) void locateFinite(const OpenMM::Vec3* box,
     const double ax = box[0][0], ay = box[0][1], az = box[0][2];
     const double bx = box[1][0], by = box[1][1], bz = box[1][2];
     const double cx = box[2][0], cy = box[2][1], cz = box[2][2];
+    const double inverseAx = 1.0/ax, inverseBy = 1.0/by, inverseCz = 1.0/cz;
     const int na = cells[0], nb = cells[1], nc = cells[2];
 #pragma omp simd
     for (int i = begin; i < end; i++) {
         double x = in[3*i], y = in[3*i+1], z = in[3*i+2];
         double fc = z;
-        fc /= cz;
+        fc *= inverseCz;
         double wholeC = std::floor(fc);
         x -= cx*wholeC;
         y -= cy*wholeC;
@@ -139,7 +140,7 @@ inline __attribute__((always_inline)) void locateFinite(const OpenMM::Vec3* box,
         fc -= wholeC;
         double fb = y;
         fb -= fc*cy;
-        fb /= by;
+        fb *= inverseBy;
         double wholeB = std::floor(fb);
         x -= bx*wholeB;
         y -= by*wholeB;
@@ -148,7 +149,7 @@ inline __attribute__((always_inline)) void locateFinite(const OpenMM::Vec3* box,
         double fa = x;
         fa -= fb*bx;
         fa -= fc*cx;
-        fa /= ax;
+        fa *= inverseAx;
         double wholeA = std::floor(fa);
         x -= ax*wholeA;
         y -= ay*wholeA;
