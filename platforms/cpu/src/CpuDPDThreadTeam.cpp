@@ -9,6 +9,17 @@ namespace {
 /** How long a worker spins for the next task before it sleeps. */
 constexpr auto spinTime = std::chrono::microseconds(1000);
 
+/**
+ * One step of a spin: a pause, and now and then a yield, so that a machine with more threads than
+ * cores (Threads above the core count) still runs the threads that have work.
+ */
+inline void pauseOrYield(int spins) {
+    if (spins%64 == 0)
+        std::this_thread::yield();
+    else
+        _mm_pause();
+}
+
 } // namespace
 
 CpuDPDThreadTeam::CpuDPDThreadTeam(int numThreads) : numThreads(numThreads) {
@@ -62,12 +73,8 @@ void CpuDPDThreadTeam::run(const std::function<void(int)>& body) {
     catch (...) {
         own = std::current_exception();
     }
-    for (int spins = 0; remaining.load(std::memory_order_acquire) > 0; spins++) {
-        if (spins < 100000)
-            _mm_pause();
-        else
-            std::this_thread::yield();
-    }
+    for (int spins = 1; remaining.load(std::memory_order_acquire) > 0; spins++)
+        pauseOrYield(spins);
     task = nullptr;
     if (own)
         std::rethrow_exception(own);
@@ -81,7 +88,7 @@ void CpuDPDThreadTeam::work(int thread) {
         unsigned current = generation.load(std::memory_order_acquire);
         auto spinStart = std::chrono::steady_clock::now();
         for (int spins = 1; current == seen; spins++) {
-            _mm_pause();
+            pauseOrYield(spins);
             current = generation.load(std::memory_order_acquire);
             if (current == seen && spins%256 == 0 && std::chrono::steady_clock::now()-spinStart > spinTime) {
                 std::unique_lock<std::mutex> lock(wakeMutex);
