@@ -13,7 +13,7 @@ using OpenMM::Vec3;
 void CpuDPDPairEngine::PairBuffer::reserveMore(std::size_t count) {
     if (size+count <= i.size())
         return;
-    std::size_t capacity = std::max(i.size()+i.size()/4, size+count); // modest slack: the list is most of the memory
+    std::size_t capacity = std::max(i.size()+i.size()/10, size+count); // little slack: the list is most of the memory
     i.resize(capacity);
     j.resize(capacity);
     image.resize(capacity);
