@@ -17,7 +17,9 @@ namespace OpenMMDPD {
  * the blocks are coloured by the parity of their index along each axis (8 colours): the pairs of a
  * block's cells with their half stencils of 13 neighbours reach at most one cell into the next
  * block, so they share no particle with those of another block of the same colour, and the blocks
- * of one colour can be swept in parallel.  An axis of fewer than 4 cells is one block.
+ * of one colour can be swept in parallel.  An axis of fewer than 4 cells is one block.  A large box
+ * is swept in slabs of block layers along z, one after another, each with its own colours (layOut),
+ * so that the data a colour touches stays within a slab.
  */
 class CpuDPDCellGrid {
 public:
@@ -70,7 +72,7 @@ public:
     /** The lattice shift of each image code, one array per coordinate (nm). */
     double imageShiftX[27], imageShiftY[27], imageShiftZ[27];
     /**
-     * The cells in sweep order: colour by colour, block by block, by index within a block.
+     * The cells in sweep order: slab by slab, colour by colour, block by block, by index within a block.
      * Colour k is cells [colorStart[k], colorStart[k+1]) of that order and blocks
      * [colorBlockStart[k], colorBlockStart[k+1]); block b is cells [blockStart[b], blockStart[b+1]).
      */
