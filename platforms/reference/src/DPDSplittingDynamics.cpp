@@ -235,7 +235,9 @@ DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl&
         // What the Context's evaluation does for these forces: clear, then each adds its own.  The
         // first evaluation goes through the Context, which checks that positions have been set.
         std::vector<Vec3>& forces = arrays(context).forces;
-        std::fill(forces.begin(), forces.end(), Vec3());
+        ownEngine->forEachParticleRange(static_cast<int>(forces.size()), [&](int begin, int end) {
+            std::fill(forces.begin()+begin, forces.begin()+end, Vec3());
+        });
         for (OpenMM::ForceImpl* impl : integratedForceImpls)
             impl->calcForcesAndEnergy(context, true, false, integrationGroups);
     }
