@@ -141,8 +141,8 @@ int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>&
     std::atomic<int> unsound{-1}; // the first unsound particle, whatever the split among threads
     ownEngine->forEachParticleRange(static_cast<int>(positions.size()), [&](int begin, int end) {
         // Both tests are false for NaN; the second also catches a finite step to an infinite position.
-        // Without a branch (a massless particle takes a zero step), so that the loop is vectorised;
-        // the rare unsound range is scanned again for its first culprit.
+        // No branch in the loop (a massless particle takes a zero step); the rare unsound range is
+        // scanned again for its first culprit.
         auto displacementOf = [&](int i) { return inverseMasses[i] == 0.0 ? Vec3() : velocities[i]*dt; };
         auto isSound = [&](const Vec3& displacement, const Vec3& position) {
             return (displacement.dot(displacement) <= limit2) & (position.dot(position) <= std::numeric_limits<double>::max());
@@ -219,7 +219,7 @@ bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector
     std::atomic<bool> allFinite{true};
     ownEngine->forEachParticleRange(static_cast<int>(velocities.size()), [&](int begin, int end) {
         bool finite = true;
-        for (int i = begin; i < end; i++) { // no branch: vectorised
+        for (int i = begin; i < end; i++) {
             velocities[i] += forces[i]*(dt*inverseMasses[i]);
             finite &= velocities[i].dot(velocities[i]) <= std::numeric_limits<double>::max();
         }
