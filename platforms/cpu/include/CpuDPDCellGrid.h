@@ -46,11 +46,19 @@ public:
     /**
      * A stable counting sort by cell (within a cell, particles keep their order in the System), on
      * any number of threads with the same result: thread t of numThreads owns block t of the cells
-     * (consecutive by index) and calls countCellBlock, then after a barrier placeCellBlock (its cells'
-     * slots and its particles), then may gather the positions of its sorted range (sortedRangeOfThread)
-     * at once; setNumThreads first, outside the threads.
+     * (consecutive by index).  Each thread calls partitionByBlock for the particles it located (which
+     * block's thread takes each), then after a barrier countCellBlock, then after a barrier
+     * placeCellBlock (its cells' slots and its particles), then may gather the positions of its
+     * sorted range (sortedRangeOfThread) at once; setNumThreads first, outside the threads.
      */
-    void setNumThreads(int numThreads) { threadSlots.resize(numThreads); blockTotal.resize(numThreads); }
+    void setNumThreads(int numThreads) {
+        threadSlots.resize(numThreads);
+        blockTotal.resize(numThreads);
+        blockParticles.resize(numThreads);
+        for (std::vector<std::vector<int>>& lists : blockParticles)
+            lists.resize(numThreads);
+    }
+    void partitionByBlock(int thread, int begin, int end);
     void countCellBlock(int thread);
     void placeCellBlock(int thread);
     /** The sorted particles [begin, end) of thread t's block of cells (after placeCellBlock). */
@@ -85,8 +93,21 @@ private:
     OpenMM::Vec3 boxVectors[3];
     double layoutRadius = -1.0;
     std::vector<int> cellOfParticle;
-    std::vector<std::vector<int>> threadSlots; // per thread and cell of its block (and a spare): its particle count, then its next slot
+    std::vector<std::vector<int>> threadSlots; // per thread and cell of its block: its particle count, then its next slot
     std::vector<int> blockTotal;               // per thread: the particles in its block of cells
+    std::vector<std::vector<std::vector<int>>> blockParticles; // [locating thread][block's thread]: particles, in System order
+    /** visit(i) for the particles of thread t's block of cells, in System order. */
+    template <class Visit>
+    void forEachParticleOfBlock(int thread, Visit visit) const {
+        if (blockParticles.size() == 1) {
+            for (int i = 0, n = static_cast<int>(cellOfParticle.size()); i < n; i++)
+                visit(i);
+            return;
+        }
+        for (const std::vector<std::vector<int>>& lists : blockParticles) // the locating threads' ranges are in System order
+            for (int i : lists[thread])
+                visit(i);
+    }
     /** The block of cells [begin, end) whose offsets a thread computes. */
     void cellBlock(int thread, int& begin, int& end) const {
         long long numCells = getNumCells(), numThreads = static_cast<long long>(threadSlots.size());

@@ -218,22 +218,31 @@ int CpuDPDCellGrid::locate(const std::vector<Vec3>& positions, int begin, int en
     return -1;
 }
 
+void CpuDPDCellGrid::partitionByBlock(int thread, int begin, int end) {
+    // Particle i goes to the thread whose block holds its cell: the last t with numCells t/T <= cell.
+    long long numCells = getNumCells(), numThreads = static_cast<long long>(threadSlots.size());
+    if (numThreads == 1)
+        return; // the one thread takes every particle in order
+    std::vector<std::vector<int>>& lists = blockParticles[thread];
+    for (std::vector<int>& list : lists)
+        list.clear();
+    for (int i = begin; i < end; i++) {
+        long long cell = cellOfParticle[i];
+        int owner = static_cast<int>(std::min(numThreads-1, ((cell+1)*numThreads+numCells-1)/numCells-1));
+        lists[owner].push_back(i);
+    }
+}
+
 void CpuDPDCellGrid::countCellBlock(int thread) {
-    // Every thread reads all the particles' cells and counts those of its own block of cells (one
-    // pass over an int array, no branch: a particle of another block is counted in a spare slot).
     int first, last;
     cellBlock(thread, first, last);
-    int blockCells = last-first;
     std::vector<int>& count = threadSlots[thread];
-    count.assign(blockCells+1, 0);
+    count.assign(last-first, 0);
     const int* cellOf = cellOfParticle.data();
-    for (int i = 0, n = static_cast<int>(cellOfParticle.size()); i < n; i++) {
-        unsigned local = static_cast<unsigned>(cellOf[i]-first);
-        count[local < static_cast<unsigned>(blockCells) ? local : blockCells]++;
-    }
+    forEachParticleOfBlock(thread, [&](int i) { count[cellOf[i]-first]++; });
     int total = 0;
-    for (int cell = 0; cell < blockCells; cell++)
-        total += count[cell];
+    for (int particles : count)
+        total += particles;
     blockTotal[thread] = total;
 }
 
@@ -242,11 +251,10 @@ void CpuDPDCellGrid::placeCellBlock(int thread) {
     // order in the System (a stable sort).  Only this thread writes the block's slots.
     int first, last, slot = 0;
     cellBlock(thread, first, last);
-    int blockCells = last-first;
     for (int t = 0; t < thread; t++)
         slot += blockTotal[t];
     std::vector<int>& next = threadSlots[thread];
-    for (int cell = 0; cell < blockCells; cell++) {
+    for (int cell = 0; cell < last-first; cell++) {
         cellStart[first+cell] = slot;
         int particles = next[cell];
         next[cell] = slot;
@@ -254,16 +262,9 @@ void CpuDPDCellGrid::placeCellBlock(int thread) {
     }
     if (thread == static_cast<int>(threadSlots.size())-1)
         cellStart[getNumCells()] = static_cast<int>(cellOfParticle.size());
-    int spare;
     int* sorted = sortedToOriginal.data();
     const int* cellOf = cellOfParticle.data();
-    for (int i = 0, n = static_cast<int>(cellOfParticle.size()); i < n; i++) {
-        unsigned local = static_cast<unsigned>(cellOf[i]-first);
-        bool mine = local < static_cast<unsigned>(blockCells);
-        int& position = next[mine ? local : blockCells];
-        *(mine ? sorted+position : &spare) = i;
-        position += mine;
-    }
+    forEachParticleOfBlock(thread, [&](int i) { sorted[next[cellOf[i]-first]++] = i; });
 }
 
 void CpuDPDCellGrid::sortedRangeOfThread(int thread, int& begin, int& end) const {

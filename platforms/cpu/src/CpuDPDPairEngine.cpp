@@ -195,6 +195,8 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
     onThreads([&](int thread) {
         int first = particleRangeBegin(thread, numParticles), last = particleRangeBegin(thread+1, numParticles);
         nonFinite[thread] = grid.locate(positions, first, last);
+        if (nonFinite[thread] < 0)
+            grid.partitionByBlock(thread, first, last);
         barrier.wait();
         for (int bad : nonFinite)
             if (bad >= 0)
