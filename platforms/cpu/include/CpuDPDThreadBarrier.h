@@ -7,7 +7,7 @@
 namespace OpenMMDPD {
 
 /**
- * A reusable barrier for the threads of one ThreadPool task: the colour-by-colour sweeps pass one
+ * A reusable barrier for the threads of one CpuDPDThreadTeam task: the colour-by-colour sweeps pass one
  * per colour, far too often for OpenMM's condition-variable hand-over.  Waiting threads spin briefly,
  * then yield, so an oversubscribed machine is not starved.
  */
