@@ -62,8 +62,9 @@ void CpuDPDPairEngine::onThreads(const std::function<void(int)>& body) {
 }
 
 void CpuDPDPairEngine::forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) {
-    // A kick or drift costs a few ns a particle, a hand-over to the team about a microsecond.
-    const int minParticlesPerThread = 4096;
+    // A kick or drift costs a few ns a particle, a hand-over to the team about a microsecond (N = 4 000,
+    // 2 threads: 1024 per thread made the step 3.5 % faster than 4096).
+    const int minParticlesPerThread = 1024;
     int useThreads = threads->getNumThreads();
     if (useThreads == 1 || count < 2*minParticlesPerThread) {
         body(0, count);
