@@ -2,6 +2,7 @@
 #define OPENMMDPD_CPUDPDCELLGRID_H_
 
 #include "openmm/Vec3.h"
+#include <algorithm>
 #include <vector>
 
 namespace OpenMMDPD {
@@ -34,6 +35,8 @@ public:
     /** n_k of an image code: 0 for a, 1 for b, 2 for c. */
     static int imageIndex(int image, int k) { return (k == 0 ? image : k == 1 ? image/3 : image/9)%3-1; }
     static constexpr int halfStencilSize = 14; // the cell itself and 13 of its 26 neighbours
+    /** The first item of share `part` when [0, count) is cut into `parts` consecutive shares of (nearly) equal size. */
+    static int shareBegin(long long count, int part, int parts) { return static_cast<int>(count*part/parts); }
 
     /**
      * Sorting the particles into cells at least `radius` thick, in four phases so that the engine
@@ -108,11 +111,16 @@ private:
             for (int i : lists[thread])
                 visit(i);
     }
-    /** The block of cells [begin, end) whose offsets a thread computes. */
+    /** The block of cells [begin, end) that a thread sorts; blockOwner(cell) is the thread whose block holds a cell. */
     void cellBlock(int thread, int& begin, int& end) const {
+        int numThreads = static_cast<int>(threadSlots.size());
+        begin = shareBegin(getNumCells(), thread, numThreads);
+        end = shareBegin(getNumCells(), thread+1, numThreads);
+    }
+    int blockOwner(int cell) const {
+        // The last t with shareBegin(numCells, t, T) <= cell, i.e. floor(numCells t / T) <= cell.
         long long numCells = getNumCells(), numThreads = static_cast<long long>(threadSlots.size());
-        begin = static_cast<int>(numCells*thread/numThreads);
-        end = static_cast<int>(numCells*(thread+1)/numThreads);
+        return static_cast<int>(std::min(numThreads-1, ((cell+1LL)*numThreads+numCells-1)/numCells-1));
     }
     std::vector<OpenMM::Vec3> wrappedPositions;
 };

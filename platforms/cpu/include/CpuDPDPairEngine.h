@@ -71,9 +71,7 @@ private:
     void cellsOfThread(int color, int thread, int& begin, int& end) const;
     void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates);
     /** The first sorted particle of a thread's share of [0, numParticles). */
-    int particleRangeBegin(int thread, int numParticles) const {
-        return static_cast<int>(static_cast<long long>(numParticles)*thread/numThreads);
-    }
+    int particleRangeBegin(int thread, int numParticles) const { return CpuDPDCellGrid::shareBegin(numParticles, thread, numThreads); }
     using ParticleRangeTask = std::function<void(int begin, int end)>;
     using CellTask = std::function<void(int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart)>;
     /**

@@ -46,7 +46,7 @@ private:
     std::atomic<int> remaining{0};        // workers still running the current task
     const std::function<void(int)>* task = nullptr;
     std::exception_ptr failure;
-    bool stopping = false;
+    std::atomic<bool> stopping{false};
 };
 
 } // namespace OpenMMDPD

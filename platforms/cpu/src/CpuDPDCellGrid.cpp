@@ -20,7 +20,7 @@ int axisBlocks(int n) {
 }
 
 int axisBlockStart(int block, int n) {
-    return static_cast<int>(static_cast<long long>(block)*n/axisBlocks(n));
+    return CpuDPDCellGrid::shareBegin(n, block, axisBlocks(n));
 }
 
 } // namespace
@@ -125,6 +125,15 @@ void CpuDPDCellGrid::prepare(int numParticles, const Vec3* box, double radius) {
 
 namespace {
 
+/** Reduces fractional coordinate f into [0, 1) and the position (x, y, z) with it, by whole box vectors (vx, vy, vz). */
+inline __attribute__((always_inline)) void reduceAlong(double vx, double vy, double vz, double& f, double& x, double& y, double& z) {
+    double whole = std::floor(f);
+    x -= vx*whole;
+    y -= vy*whole;
+    z -= vz*whole;
+    f -= whole;
+}
+
 /**
  * Fractional coordinates in OpenMM's lower-triangular box: f_c = z/c_z, f_b = (y - f_c c_y)/b_y,
  * f_a = (x - f_b b_x - f_c c_x)/a_x (times reciprocals computed once), each reduced into [0, 1) with the position (subtracting floor(f)
@@ -145,28 +154,16 @@ inline __attribute__((always_inline)) void locateFinite(const OpenMM::Vec3* box,
         double x = in[3*i], y = in[3*i+1], z = in[3*i+2];
         double fc = z;
         fc *= inverseCz;
-        double wholeC = std::floor(fc);
-        x -= cx*wholeC;
-        y -= cy*wholeC;
-        z -= cz*wholeC;
-        fc -= wholeC;
+        reduceAlong(cx, cy, cz, fc, x, y, z);
         double fb = y;
         fb -= fc*cy;
         fb *= inverseBy;
-        double wholeB = std::floor(fb);
-        x -= bx*wholeB;
-        y -= by*wholeB;
-        z -= bz*wholeB;
-        fb -= wholeB;
+        reduceAlong(bx, by, bz, fb, x, y, z);
         double fa = x;
         fa -= fb*bx;
         fa -= fc*cx;
         fa *= inverseAx;
-        double wholeA = std::floor(fa);
-        x -= ax*wholeA;
-        y -= ay*wholeA;
-        z -= az*wholeA;
-        fa -= wholeA;
+        reduceAlong(ax, ay, az, fa, x, y, z);
         int ia = std::min(na-1, std::max(0, static_cast<int>(fa*na)));
         int ib = std::min(nb-1, std::max(0, static_cast<int>(fb*nb)));
         int ic = std::min(nc-1, std::max(0, static_cast<int>(fc*nc)));
@@ -219,18 +216,14 @@ int CpuDPDCellGrid::locate(const std::vector<Vec3>& positions, int begin, int en
 }
 
 void CpuDPDCellGrid::partitionByBlock(int thread, int begin, int end) {
-    // Particle i goes to the thread whose block holds its cell: the last t with numCells t/T <= cell.
-    long long numCells = getNumCells(), numThreads = static_cast<long long>(threadSlots.size());
-    if (numThreads == 1)
+    // Particle i goes to the thread whose block holds its cell.
+    if (threadSlots.size() == 1)
         return; // the one thread takes every particle in order
     std::vector<std::vector<int>>& lists = blockParticles[thread];
     for (std::vector<int>& list : lists)
         list.clear();
-    for (int i = begin; i < end; i++) {
-        long long cell = cellOfParticle[i];
-        int owner = static_cast<int>(std::min(numThreads-1, ((cell+1)*numThreads+numCells-1)/numCells-1));
-        lists[owner].push_back(i);
-    }
+    for (int i = begin; i < end; i++)
+        lists[blockOwner(cellOfParticle[i])].push_back(i);
 }
 
 void CpuDPDCellGrid::countCellBlock(int thread) {
@@ -249,10 +242,9 @@ void CpuDPDCellGrid::countCellBlock(int thread) {
 void CpuDPDCellGrid::placeCellBlock(int thread) {
     // The block's cells follow those of the blocks before it; within a cell, particles keep their
     // order in the System (a stable sort).  Only this thread writes the block's slots.
-    int first, last, slot = 0;
+    int first, last, slot, end;
     cellBlock(thread, first, last);
-    for (int t = 0; t < thread; t++)
-        slot += blockTotal[t];
+    sortedRangeOfThread(thread, slot, end);
     std::vector<int>& next = threadSlots[thread];
     for (int cell = 0; cell < last-first; cell++) {
         cellStart[first+cell] = slot;

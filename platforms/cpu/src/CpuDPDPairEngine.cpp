@@ -71,7 +71,7 @@ void CpuDPDPairEngine::forEachParticleRange(int count, const std::function<void(
         return;
     }
     threads->run([&](int thread) {
-        body(static_cast<int>(static_cast<long long>(count)*thread/useThreads), static_cast<int>(static_cast<long long>(count)*(thread+1)/useThreads));
+        body(CpuDPDCellGrid::shareBegin(count, thread, useThreads), CpuDPDCellGrid::shareBegin(count, thread+1, useThreads));
     });
 }
 
@@ -82,7 +82,7 @@ void CpuDPDPairEngine::cellsOfThread(int color, int thread, int& begin, int& end
     auto boundary = [&](int t) {
         if (t == numThreads)
             return first+count;
-        int target = first+static_cast<int>(static_cast<long long>(count)*t/numThreads);
+        int target = first+CpuDPDCellGrid::shareBegin(count, t, numThreads);
         return *std::lower_bound(blocksBegin, blocksEnd, target);
     };
     begin = boundary(thread);

@@ -30,7 +30,7 @@ CpuDPDThreadTeam::CpuDPDThreadTeam(int numThreads) : numThreads(numThreads) {
 CpuDPDThreadTeam::~CpuDPDThreadTeam() {
     {
         std::lock_guard<std::mutex> lock(wakeMutex);
-        stopping = true;
+        stopping.store(true);
         generation.fetch_add(1);
     }
     wake.notify_all();
@@ -99,11 +99,8 @@ void CpuDPDThreadTeam::work(int thread) {
             }
         }
         seen = current;
-        {
-            std::lock_guard<std::mutex> lock(wakeMutex);
-            if (stopping)
-                return;
-        }
+        if (stopping.load()) // set before the generation changed
+            return;
         try {
             (*task)(thread);
         }

@@ -99,7 +99,6 @@ private:
     void applyForcingImpulse(double xi, std::vector<OpenMM::Vec3>& velocities) const;
     void throwNonFinite(OpenMM::ContextImpl& context, const char* what, int particle = -1) const;
 
-    DPDPairEngineFactory makeEngine;
     DPDIntegrator::Scheme scheme;
     double stepSize;
     double kT;

@@ -67,7 +67,7 @@ DPDSplittingDynamics::ContextArrays DPDSplittingDynamics::arrays(OpenMM::Context
 
 DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const DPDIntegrator& integrator,
                                            DPDPairEngineFactory makeEngine)
-    : makeEngine(std::move(makeEngine)), scheme(integrator.getScheme()), stepSize(integrator.getStepSize()),
+    : scheme(integrator.getScheme()), stepSize(integrator.getStepSize()),
       kT(BOLTZ*integrator.getTemperature()), integrationGroups(integrator.getIntegrationForceGroups()) {
     const OpenMM::System& system = context.getSystem();
     friction = compileFriction(system, integrator.getTable());
@@ -81,7 +81,7 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
         masses[i] = system.getParticleMass(i);
         inverseMasses[i] = masses[i] == 0.0 ? 0.0 : 1.0/masses[i];
     }
-    ownEngine = this->makeEngine(); // also runs the per-particle loops (kick, drift) on the platform's threads
+    ownEngine = makeEngine(); // also runs the per-particle loops (kick, drift) on the platform's threads
     int seed = integrator.getRandomNumberSeed();
     random = DPDPairRandom(seed != 0 ? static_cast<std::uint64_t>(seed) : std::random_device()());
     Vec3 box[3];
@@ -115,9 +115,9 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
 
     // Share the DPDForce's pair list when its search radius covers every dissipative cutoff and it is
     // evaluated with the integration force groups (checked again at every evaluation).
-    for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
+    for (OpenMM::ForceImpl* impl : integratedForceImpls) {
         auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
-        if (forceImpl == nullptr || (integrationGroups & (1 << forceImpl->getOwner().getForceGroup())) == 0)
+        if (forceImpl == nullptr)
             continue;
         auto* kernel = dynamic_cast<ReferenceCalcDPDForceKernel*>(&forceImpl->getKernel().getImpl());
         if (kernel != nullptr && forceImpl->getOwner().getTable().compile(system.getNumParticles()).maxCutoff >= friction.maxCutoff) {
@@ -245,8 +245,6 @@ DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl&
         context.calcForcesAndEnergy(true, false, integrationGroups);
         contextEvaluatedForces = true;
     }
-    if (!ownEngine)
-        ownEngine = makeEngine();
     if (friction.allValuesZero)
         pairsAtCurrentPositions = ownEngine.get(); // no O sweep at zero friction, so no pair search either
     else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore &&
