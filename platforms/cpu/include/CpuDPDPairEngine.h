@@ -3,6 +3,7 @@
 
 #include "CpuDPDCellGrid.h"
 #include "CpuDPDPairUpdateBlock.h"
+#include "CpuDPDSuccessiveSweep.h"
 #include "CpuDPDThreadBarrier.h"
 #include "CpuDPDThreadTeam.h"
 #include "DPDPairEngine.h"
@@ -73,15 +74,29 @@ private:
     /** The first sorted particle of a thread's share of [0, numParticles). */
     int particleRangeBegin(int thread, int numParticles) const { return CpuDPDCellGrid::shareBegin(numParticles, thread, numThreads); }
     using ParticleRangeTask = std::function<void(int begin, int end)>;
-    using CellTask = std::function<void(int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart)>;
+    /**
+     * Consecutive cells [cellBegin, cellEnd) of sweep order, all of one thread and colour, and their
+     * pairs [pairBegin, pairEnd) in the thread's buffer, whose coefficients `block` holds from its
+     * entry 0 (pair pairBegin) on.  Empty when cellBegin == cellEnd.
+     */
+    struct PairRun {
+        int cellBegin, cellEnd, pairBegin, pairEnd;
+        const CpuDPDPairUpdateBlock* block;
+    };
+    /** The streams of runs a thread sweeps side by side (CpuDPDSuccessiveSweep). */
+    static constexpr int numStreams = CpuDPDSuccessiveSweep::numRuns;
+    /** Sweeps numStreams runs whose pairs share no particle; some may be empty. */
+    using RunTask = std::function<void(int thread, const PairRun* runs)>;
     /**
      * The successive sweep shared by O, BBK and VV, in one task on the threads: each thread gathers
      * its share of the particles into sorted order, then per colour its pairs get their coefficients
-     * in one vector pass and apply(pair range of a cell) runs cell by cell, then each thread scatters
-     * its share back.
+     * in one vector pass and apply(two runs of cells) sweeps them, then each thread scatters its
+     * share back.
      */
     void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
-                      const CellTask& apply, const ParticleRangeTask& scatter);
+                      const RunTask& apply, const ParticleRangeTask& scatter);
+    /** The first boundary of a block of the colour at or after `cell` of sweep order, at most end. */
+    int blockBoundaryFrom(int color, int cell, int end) const;
     /**
      * The successive velocity sweep of O (exact OU) and S1 (BBK): Delta p = slope u + offset per pair.
      * With `response` (Norton), also returns G . Delta p^D summed cell by cell in sweep order.
@@ -102,7 +117,7 @@ private:
     std::vector<PairBuffer> buffers;                 // one per thread
     std::vector<CandidateSet> candidateSets;          // one per thread
     std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its thread's buffer
-    std::vector<CpuDPDPairUpdateBlock> blocks;        // one per thread
+    std::vector<CpuDPDPairUpdateBlock> blocks;        // per thread, one per stream of runs
     std::vector<DPDPairStressSums> cellStress;        // per-cell pair stress sums of a sweep that gathers stress
     std::vector<int> nonFinite;                       // per thread: the first particle found with a non-finite position, or -1
     std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order

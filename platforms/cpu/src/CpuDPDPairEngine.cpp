@@ -1,6 +1,7 @@
 #include "CpuDPDPairEngine.h"
 #include "CpuDPDConservativeForce.h"
 #include "CpuDPDDistanceFilter.h"
+#include "CpuDPDSuccessiveSweep.h"
 #include "DPDPairFormulas.h"
 #include <algorithm>
 #include <cmath>
@@ -51,7 +52,7 @@ void CpuDPDPairEngine::CandidateSet::resize(int count, std::size_t maxPairs) {
 
 CpuDPDPairEngine::CpuDPDPairEngine(int numThreads)
     : threads(CpuDPDThreadTeam::shared(numThreads)), numThreads(numThreads), barrier(numThreads), buffers(numThreads),
-      candidateSets(numThreads), blocks(numThreads) {}
+      candidateSets(numThreads), blocks(numStreams*numThreads) {}
 
 void CpuDPDPairEngine::onThreads(const std::function<void(int)>& body) {
     if (numThreads == 1) { // no hand-over to a worker thread: small systems pay no fixed cost per call
@@ -87,6 +88,12 @@ void CpuDPDPairEngine::cellsOfThread(int color, int thread, int& begin, int& end
     };
     begin = boundary(thread);
     end = boundary(thread+1);
+}
+
+int CpuDPDPairEngine::blockBoundaryFrom(int color, int cell, int end) const {
+    auto blocksBegin = grid.blockStart.begin()+grid.colorBlockStart[color], blocksEnd = grid.blockStart.begin()+grid.colorBlockStart[color+1];
+    auto boundary = std::lower_bound(blocksBegin, blocksEnd, cell);
+    return boundary == blocksEnd ? end : std::min(end, *boundary);
 }
 
 namespace {
@@ -243,7 +250,7 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
 }
 
 void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
-                                    const CellTask& apply, const ParticleRangeTask& scatter) {
+                                    const RunTask& apply, const ParticleRangeTask& scatter) {
     int numParticles = static_cast<int>(grid.sortedToOriginal.size());
     sortedFrictionType.resize(numParticles);
     sortedInverseMass.resize(numParticles);
@@ -274,26 +281,49 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
                                                    grid.imageShiftX, grid.imageShiftY, grid.imageShiftZ};
         gather(firstParticle, lastParticle);
         barrier.wait();
-        PairBuffer& buffer = buffers[thread];
-        CpuDPDPairUpdateBlock& block = blocks[thread];
         // A thread's cells of one colour are consecutive in its buffer.  They are taken in runs of
-        // whole cells of about pairsPerPass pairs: the coefficients of a run are still in the cache
+        // whole cells of about pairsPerRun pairs: the coefficients of a run are still in the cache
         // when its cells are swept, and the block's arrays stay small.  The coefficients do not depend
-        // on where the runs start (CpuDPDPairUpdateBlock), so neither do the bits.
-        const int pairsPerPass = 8192;
+        // on where the runs start (CpuDPDPairUpdateBlock), so neither do the bits.  The thread's
+        // blocks of cells are cut in two halves, swept as two streams of runs side by side: blocks of
+        // one colour share no particle, so the two streams' updates are independent (the same sums in
+        // the same order as one after the other) and the processor overlaps their dependency chains.
+        const int pairsPerRun = 8192/numStreams;
         const int* cells = grid.cellsInSweepOrder.data();
+        auto takeRun = [&](int& next, int limit, CpuDPDPairUpdateBlock& block) {
+            PairRun run{next, next, 0, 0, &block};
+            if (next >= limit)
+                return run;
+            run.pairBegin = cellPairBegin[cells[next]];
+            run.cellEnd = next+1;
+            while (run.cellEnd < limit && cellPairEnd[cells[run.cellEnd]]-run.pairBegin <= pairsPerRun)
+                run.cellEnd++;
+            run.pairEnd = cellPairEnd[cells[run.cellEnd-1]];
+            block.compute(kind, sweep, particles, run.pairEnd-run.pairBegin, &buffers[thread].i[run.pairBegin],
+                          &buffers[thread].j[run.pairBegin], &buffers[thread].image[run.pairBegin]);
+            next = run.cellEnd;
+            return run;
+        };
         for (int color = 0; color < grid.getNumColors(); color++) {
-            int begin, end;
-            cellsOfThread(color, thread, begin, end);
-            for (int runBegin = begin, runEnd; runBegin < end; runBegin = runEnd) {
-                int first = cellPairBegin[cells[runBegin]];
-                runEnd = runBegin+1;
-                while (runEnd < end && cellPairEnd[cells[runEnd]]-first <= pairsPerPass)
-                    runEnd++;
-                int last = cellPairEnd[cells[runEnd-1]];
-                block.compute(kind, sweep, particles, last-first, &buffer.i[first], &buffer.j[first], &buffer.image[first]);
-                for (int k = runBegin; k < runEnd; k++)
-                    apply(thread, cells[k], cellPairBegin[cells[k]], cellPairEnd[cells[k]], block, first);
+            int bound[numStreams+1]; // stream k takes cells [bound[k], bound[k+1]), whole blocks
+            cellsOfThread(color, thread, bound[0], bound[numStreams]);
+            int next[numStreams];
+            for (int k = 0; k < numStreams; k++) {
+                if (k > 0)
+                    bound[k] = std::max(bound[k-1], blockBoundaryFrom(color, bound[0]+CpuDPDCellGrid::shareBegin(bound[numStreams]-bound[0], k, numStreams),
+                                                                      bound[numStreams]));
+                next[k] = bound[k];
+            }
+            while (true) {
+                PairRun runs[numStreams];
+                bool any = false;
+                for (int k = 0; k < numStreams; k++) {
+                    runs[k] = takeRun(next[k], bound[k+1], blocks[numStreams*thread+k]);
+                    any |= runs[k].cellBegin < runs[k].cellEnd;
+                }
+                if (!any)
+                    break;
+                apply(thread, runs);
             }
             barrier.wait();
         }
@@ -332,55 +362,50 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             for (int s = begin; s < end; s++)
                 sortedResponse[s] = (*response)[original[s]];
     };
-    // The plain sweep (no shear, stress or Norton) is the hot loop: compiled on its own, without them.
-    auto sweepCell = [&](auto plain, auto uniform, int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block,
-                         int blockStart) {
-        constexpr bool extras = !decltype(plain)::value;
+    // With shear, stress or Norton: cell by cell (the stress and Norton's response are summed per cell).
+    auto sweepCell = [&](auto uniform, int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const double* inverseMass = sortedInverseMass.data();
         const double uniformInverseMass = this->uniformInverseMass;
         const PairBuffer& pairs = buffers[thread];
-        DPDPairStressSums* stress = extras ? cellStressOf(sweep, cell) : nullptr;
+        DPDPairStressSums* stress = cellStressOf(sweep, cell);
         double responseOfDissipation = 0.0;
-        // A cell's pairs come in runs of one particle a (its pairs with the particles after it): v_a
-        // stays in registers through its run instead of a store and reload per pair, which the
-        // successive update would wait for.  The same operations in the same order: the same bits
-        // (b is never a, so no pair reads a stale v_a).
         Vec3* velocity = sortedVelocities.data();
-        int current = first < last ? pairs.i[first] : 0;
-        Vec3 va = first < last ? velocity[current] : Vec3();
         for (int k = first; k < last; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
-            if (a != current) {
-                velocity[current] = va;
-                current = a;
-                va = velocity[a];
-            }
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
-            double u = e.dot(va-velocity[b]);
-            if (extras)
-                u += leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
+            double u = e.dot(velocity[a]-velocity[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
             double deltaP = block.slope[n]*u + block.offset[n]; // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
-            va += e*(deltaP*(uniform ? uniformInverseMass : inverseMass[a]));
+            velocity[a] += e*(deltaP*(uniform ? uniformInverseMass : inverseMass[a]));
             velocity[b] -= e*(deltaP*(uniform ? uniformInverseMass : inverseMass[b]));
-            if (extras && stress != nullptr)
+            if (stress != nullptr)
                 addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
-            if (extras && response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
+            if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
                 responseOfDissipation += block.slope[n]*u*e.dot(sortedResponse[a]-sortedResponse[b]);
         }
-        if (first < last)
-            velocity[current] = va;
         cellSum[cell] = responseOfDissipation;
     };
     bool plain = sweep.shearRate == 0.0 && sweep.stress == nullptr && response == nullptr;
-    auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
-        if (plain && uniformSweep)
-            sweepCell(std::true_type(), std::true_type(), thread, cell, first, last, block, blockStart);
-        else if (plain)
-            sweepCell(std::true_type(), std::false_type(), thread, cell, first, last, block, blockStart);
-        else if (uniformSweep)
-            sweepCell(std::false_type(), std::true_type(), thread, cell, first, last, block, blockStart);
-        else
-            sweepCell(std::false_type(), std::false_type(), thread, cell, first, last, block, blockStart);
+    auto apply = [&](int thread, const PairRun* runs) {
+        if (plain) { // the hot loop: the runs side by side, without the extras
+            const PairBuffer& pairs = buffers[thread];
+            CpuDPDSuccessiveSweep::Run sweepRuns[numStreams];
+            for (int k = 0; k < numStreams; k++) {
+                const PairRun& run = runs[k];
+                sweepRuns[k] = {run.pairEnd-run.pairBegin, &pairs.i[run.pairBegin], &pairs.j[run.pairBegin], run.block->ex.data(),
+                                run.block->ey.data(), run.block->ez.data(), run.block->slope.data(), run.block->offset.data()};
+            }
+            CpuDPDSuccessiveSweep::sweepSideBySide(sweepRuns, sortedVelocities.data(), uniformSweep ? nullptr : sortedInverseMass.data(),
+                                                   uniformInverseMass);
+            return;
+        }
+        for (int run = 0; run < numStreams; run++)
+            for (int k = runs[run].cellBegin; k < runs[run].cellEnd; k++) {
+                int cell = grid.cellsInSweepOrder[k];
+                if (uniformSweep)
+                    sweepCell(std::true_type(), thread, cell, cellPairBegin[cell], cellPairEnd[cell], *runs[run].block, runs[run].pairBegin);
+                else
+                    sweepCell(std::false_type(), thread, cell, cellPairBegin[cell], cellPairEnd[cell], *runs[run].block, runs[run].pairBegin);
+            }
     };
     auto scatter = [&](int begin, int end) {
         for (int s = begin; s < end; s++)
@@ -415,10 +440,10 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
             sortedForces[s] = Vec3();
         }
     };
-    auto apply = [&](int thread, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
+    auto applyToCell = [&](int thread, int cell, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const PairBuffer& pairs = buffers[thread];
         DPDPairStressSums* stress = cellStressOf(sweep, cell);
-        for (int k = first; k < last; k++) {
+        for (int k = cellPairBegin[cell]; k < cellPairEnd[cell]; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
             double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
@@ -428,6 +453,11 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
             if (stress != nullptr)
                 addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
         }
+    };
+    auto apply = [&](int thread, const PairRun* runs) {
+        for (int run = 0; run < numStreams; run++)
+            for (int k = runs[run].cellBegin; k < runs[run].cellEnd; k++)
+                applyToCell(thread, grid.cellsInSweepOrder[k], *runs[run].block, runs[run].pairBegin);
     };
     auto scatter = [&](int begin, int end) {
         for (int s = begin; s < end; s++)
