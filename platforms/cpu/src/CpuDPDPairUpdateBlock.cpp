@@ -39,9 +39,10 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
     const std::uint64_t randomKey = sweep.randomKey;
     const double kT = sweep.kT, dt = sweep.dt;
     const double uniformInverseMass = particles.uniformInverseMass;
+    const double uniformReducedMass = 1.0/(uniformInverseMass+uniformInverseMass);
     for (std::size_t block = 0; block < numBlocks; block++) {
         const std::size_t first = block*B;
-        double r[B], gamma[B], w[B], invReducedMass[B], acts[B], R[B];
+        double r[B], gamma[B], w[B], invReducedMass[B], reducedMass[B], acts[B], squaredRadius[B], cosine[B];
         int originalI[B], originalJ[B];
 #pragma omp simd
         for (int n = 0; n < B; n++) {
@@ -65,18 +66,22 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
             gamma[n] = acts[n] != 0.0 ? gammaTable[typePair] : 1.0;
             w[n] = acts[n] != 0.0 ? 1.0-r[n]/cutoff : 0.5;
             invReducedMass[n] = acts[n] != 0.0 ? invReducedMass[n] : 1.0;
+            reducedMass[n] = uniform ? (acts[n] != 0.0 ? uniformReducedMass : 1.0) : 1.0/invReducedMass[n];
             originalI[n] = originalIndex[i];
             originalJ[n] = originalIndex[j];
         }
 #pragma omp simd
-        for (int n = 0; n < B; n++)
-            R[n] = DPDPairRandom::normal(randomKey, originalI[n], originalJ[n]);
+        for (int n = 0; n < B; n++) {
+            DPDPairRandom::BoxMuller R = DPDPairRandom::normalFactors(randomKey, originalI[n], originalJ[n]);
+            squaredRadius[n] = R.squaredRadius;
+            cosine[n] = R.cosine;
+        }
 #pragma omp simd
         for (int n = 0; n < B; n++) {
             DPDPairUpdate update = kind == CpuDPDPairUpdateBlock::OrnsteinUhlenbeck ?
-                    exactOrnsteinUhlenbeckUpdate(gamma[n], w[n], invReducedMass[n], kT, dt, R[n]) :
-                kind == CpuDPDPairUpdateBlock::BBK ? bbkUpdate(gamma[n], w[n], invReducedMass[n], kT, dt, R[n]) :
-                    dissipativeAndRandomForce(gamma[n], w[n], kT, dt, R[n]);
+                    exactOrnsteinUhlenbeckUpdate(gamma[n], w[n], invReducedMass[n], reducedMass[n], kT, dt, squaredRadius[n], cosine[n]) :
+                kind == CpuDPDPairUpdateBlock::BBK ? bbkUpdate(gamma[n], w[n], invReducedMass[n], kT, dt, std::sqrt(squaredRadius[n])*cosine[n]) :
+                    dissipativeAndRandomForce(gamma[n], w[n], kT, dt, std::sqrt(squaredRadius[n])*cosine[n]);
             slope[first+n] = update.slope*acts[n];
             offset[first+n] = update.offset*acts[n];
         }

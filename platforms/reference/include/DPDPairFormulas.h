@@ -43,13 +43,16 @@ OPENMMDPD_PAIR_FORMULA double leesEdwardsRelativeVelocity(double shearRate, doub
 /**
  * The exact solution of m_ij du = -gamma w^2 u dt + sigma w dW over dt (eqs. 2.14-2.16, 2.22), with
  * sigma^2 = 2 gamma kT: u' = u exp(-tau dt) + sqrt(kT/m_ij (1 - exp(-2 tau dt))) R, tau = gamma w^2/m_ij.
+ * R = sqrt(squaredRadius) cosine comes in its Box-Muller factors (DPDPairRandom::BoxMuller), so the
+ * two square roots are one; the reduced mass m_ij = 1/invReducedMass comes too (a constant in a fluid
+ * of one mass).
  */
-OPENMMDPD_PAIR_FORMULA DPDPairUpdate exactOrnsteinUhlenbeckUpdate(double gamma, double w, double invReducedMass, double kT, double dt, double R) {
+OPENMMDPD_PAIR_FORMULA DPDPairUpdate exactOrnsteinUhlenbeckUpdate(double gamma, double w, double invReducedMass, double reducedMass,
+                                                                  double kT, double dt, double squaredRadius, double cosine) {
     double tau = gamma*w*w*invReducedMass;
-    double reducedMass = 1.0/invReducedMass;
     double decay = std::expm1(-tau*dt);           // exp(-tau dt) - 1, accurate for small tau dt
     double decay2 = decay*(decay+2.0);             // exp(-2 tau dt) - 1, without a second exponential
-    return {reducedMass*decay, std::sqrt(-kT*reducedMass*decay2)*R};
+    return {reducedMass*decay, std::sqrt(-kT*reducedMass*decay2*squaredRadius)*cosine};
 }
 
 /**

@@ -24,14 +24,28 @@ public:
     /** The key from which every pair's number in sweep `counter` derives. */
     std::uint64_t sweepKey(std::uint64_t counter) const { return mix(seed ^ mix(counter)); }
 
-    /** R_ij of the sweep with this key; symmetric in i and j. */
-    static inline __attribute__((always_inline)) double normal(std::uint64_t sweepKey, int i, int j) {
+    /**
+     * The two factors of Box-Muller's R_ij = sqrt(squaredRadius) cosine, squaredRadius = -2 ln u1,
+     * cosine = cos(2 pi u2): a formula that scales R by a square root multiplies under one root.
+     */
+    struct BoxMuller {
+        double squaredRadius, cosine;
+        double value() const { return std::sqrt(squaredRadius)*cosine; }
+    };
+
+    /** R_ij of the sweep with this key, in its two factors; symmetric in i and j. */
+    static inline __attribute__((always_inline)) BoxMuller normalFactors(std::uint64_t sweepKey, int i, int j) {
         std::uint64_t low = static_cast<std::uint32_t>(i < j ? i : j), high = static_cast<std::uint32_t>(i < j ? j : i);
         std::uint64_t bits = mix(sweepKey ^ ((high << 32) | low));
         const double twoToMinus32 = 1.0/4294967296.0;
         double u1 = static_cast<double>(static_cast<std::int64_t>((bits >> 32)+1))*twoToMinus32;        // in (0, 1]
         double u2 = static_cast<double>(static_cast<std::int64_t>(bits & 0xffffffffULL))*twoToMinus32;  // in [0, 1)
-        return std::sqrt(-2.0*std::log(u1))*std::cos(6.283185307179586*u2);                              // Box-Muller
+        return {-2.0*std::log(u1), std::cos(6.283185307179586*u2)};
+    }
+
+    /** R_ij of the sweep with this key; symmetric in i and j. */
+    static inline __attribute__((always_inline)) double normal(std::uint64_t sweepKey, int i, int j) {
+        return normalFactors(sweepKey, i, j).value();
     }
 
 private:

@@ -55,7 +55,7 @@ void ReferenceDPDPairEngine::sweepDissipativePairs(const DPDPairSweep& sweep, Vi
         double invReducedMass = sweep.inverseMasses[pair.i]+sweep.inverseMasses[pair.j];
         if (pair.r >= cutoff || gamma == 0.0 || invReducedMass == 0.0)
             continue;
-        visit(pair, 1.0-pair.r/cutoff, gamma, invReducedMass, DPDPairRandom::normal(sweep.randomKey, pair.i, pair.j));
+        visit(pair, 1.0-pair.r/cutoff, gamma, invReducedMass, DPDPairRandom::normalFactors(sweep.randomKey, pair.i, pair.j));
     }
 }
 
@@ -79,8 +79,9 @@ void addPairStress(const DPDPairSweep& sweep, const DPDPair& pair, const DPDPair
 double ReferenceDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<Vec3>& velocities,
                                                               const std::vector<Vec3>* response) {
     double responseOfDissipation = 0.0;
-    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
-        DPDPairUpdate update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, sweep.kT, sweep.dt, R);
+    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, DPDPairRandom::BoxMuller R) {
+        DPDPairUpdate update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, 1.0/invReducedMass, sweep.kT, sweep.dt,
+                                                            R.squaredRadius, R.cosine);
         double u = relativeVelocity(sweep, pair, velocities);
         Vec3 deltaP = pair.unit*update.momentumChange(u); // p_i += Delta p, p_j -= Delta p (eq. 2.17)
         velocities[pair.i] += deltaP*sweep.inverseMasses[pair.i];
@@ -93,8 +94,8 @@ double ReferenceDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep
 }
 
 void ReferenceDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<Vec3>& velocities) {
-    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
-        DPDPairUpdate update = bbkUpdate(gamma, w, invReducedMass, sweep.kT, sweep.dt, R);
+    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, DPDPairRandom::BoxMuller R) {
+        DPDPairUpdate update = bbkUpdate(gamma, w, invReducedMass, sweep.kT, sweep.dt, R.value());
         double u = relativeVelocity(sweep, pair, velocities);
         Vec3 deltaP = pair.unit*update.momentumChange(u); // eq. 2.12
         velocities[pair.i] += deltaP*sweep.inverseMasses[pair.i];
@@ -105,8 +106,8 @@ void ReferenceDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::ve
 
 void ReferenceDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,
                                                            std::vector<Vec3>& forces) {
-    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, double R) {
-        DPDPairUpdate force = dissipativeAndRandomForce(gamma, w, sweep.kT, sweep.dt, R);
+    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, DPDPairRandom::BoxMuller R) {
+        DPDPairUpdate force = dissipativeAndRandomForce(gamma, w, sweep.kT, sweep.dt, R.value());
         double u = relativeVelocity(sweep, pair, velocities);
         Vec3 f = pair.unit*force.momentumChange(u); // eqs. 2.2b, 2.2c
         forces[pair.i] += f;
