@@ -253,26 +253,34 @@ TEST_P(EveryScheme, ZeroFrictionEnergyErrorIsSecondOrderForASmoothPotential) {
     // by 1.3-3 per halving of dt).  With U = a/3 (1 - r)^3 (C^2 at the cutoff, a CustomNonbondedForce,
     // which the B step takes like any other force) halving dt must shrink the RMS energy error by
     // about 4 (measured 3.9 for VV/S1 and 4.3 for ABOBA, at dt = 0.025 -> 0.0125 over 10 time units);
-    // a first-order scheme would give 2.  Reference platform: its CustomNonbondedForce is double
-    // precision, so round-off (1e-12) does not enter the errors (~0.02-0.4 kJ/mol).
-    EquilibratedFluid start = equilibratedSoftFluid(200);
-    System smooth;
-    Vec3 box[3];
-    start.fluid.system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-    smooth.setDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-    auto* force = new CustomNonbondedForce("25/3*(1-r)^3");
-    force->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
-    force->setCutoffDistance(1.0);
-    for (int i = 0; i < 200; i++) {
-        smooth.addParticle(1.0);
-        force->addParticle({});
+    // a first-order scheme would give 2.  One start's ratio scatters (six starts: 3.99-4.67 for VV and
+    // S1, 2.88-4.34 for ABOBA), so the mean squares of four starts are pooled (ratio 3.9 for ABOBA, 4.3 for VV and S1).
+    // Reference platform: its CustomNonbondedForce is double precision, so round-off (1e-12) does not
+    // enter the errors (~0.02-0.4 kJ/mol).
+    double coarseSquares = 0.0, fineSquares = 0.0;
+    for (unsigned seed = 1; seed <= 4; seed++) {
+        EquilibratedFluid start = equilibratedSoftFluid(200, 3.0, 300, seed);
+        System smooth;
+        Vec3 box[3];
+        start.fluid.system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+        smooth.setDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+        auto* force = new CustomNonbondedForce("25/3*(1-r)^3");
+        force->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+        force->setCutoffDistance(1.0);
+        for (int i = 0; i < 200; i++) {
+            smooth.addParticle(1.0);
+            force->addParticle({});
+        }
+        smooth.addForce(force);
+        EnergyError coarse = energyError(smooth, start, GetParam(), "Reference", 0.025, 10.0);
+        EnergyError fine = energyError(smooth, start, GetParam(), "Reference", 0.0125, 10.0);
+        coarseSquares += coarse.rms*coarse.rms;
+        fineSquares += fine.rms*fine.rms;
+        EXPECT_LT(coarse.largest, 2e-3*coarse.initial) << "start " << seed;
     }
-    smooth.addForce(force);
-    EnergyError coarse = energyError(smooth, start, GetParam(), "Reference", 0.025, 10.0);
-    EnergyError fine = energyError(smooth, start, GetParam(), "Reference", 0.0125, 10.0);
-    EXPECT_GT(coarse.rms/fine.rms, 3.0);
-    EXPECT_LT(coarse.rms/fine.rms, 6.0); // and not better than second order: the error is the method's
-    EXPECT_LT(coarse.largest, 2e-3*coarse.initial);
+    double ratio = std::sqrt(coarseSquares/fineSquares);
+    EXPECT_GT(ratio, 3.0);
+    EXPECT_LT(ratio, 6.0); // and not better than second order: the error is the method's
 }
 
 TEST_P(EveryScheme, IntegrationForceGroupsAreHonoured) {

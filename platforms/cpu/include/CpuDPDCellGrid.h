@@ -70,6 +70,8 @@ public:
     /** The OpenMMException for a particle whose position is not finite. */
     [[noreturn]] static void throwNonFinite(const std::vector<OpenMM::Vec3>& positions, int particle);
 
+    /** The box of the last prepare(). */
+    const OpenMM::Vec3* getBoxVectors() const { return boxVectors; }
     int getNumCells() const { return cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2]; }
     int getNumColors() const { return static_cast<int>(colorStart.size())-1; }
     /** The half stencil of a cell: first the cell itself (shift 0), then 13 neighbours. */

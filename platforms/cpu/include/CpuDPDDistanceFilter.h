@@ -10,19 +10,19 @@ namespace OpenMMDPD {
  */
 class CpuDPDDistanceFilter {
 public:
-    /** A run of candidates: shifted positions, sorted particle indices and image codes. */
+    /** A run of candidates: shifted positions and sorted particle indices. */
     struct Candidates {
         const double *x, *y, *z;
-        const int *index, *image;
+        const int* index;
     };
     /** Where the hits go: one pair record per hit, in candidate order. */
     struct Hits {
-        int *index, *image;
+        int* index;
         double *dx, *dy, *dz;
     };
     /**
      * For the candidates k in [first, end) with 0 < |q - (x_k, y_k, z_k)|^2 < radius2, in increasing
-     * order, write index_k, image_k and the displacement q - (x_k, y_k, z_k) to `hits`; return how
+     * order, write index_k and the displacement q - (x_k, y_k, z_k) to `hits`; return how
      * many there are.  Up to 8 entries past the last hit may be written: every output array needs
      * room for the hits plus 8.  The displacement is one subtraction per component, the same bits
      * on every path.

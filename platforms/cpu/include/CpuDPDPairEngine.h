@@ -23,7 +23,9 @@ namespace OpenMMDPD {
  * block by block and cell by cell in index order; within a cell, its particles in sorted order, each with the cell itself and then its 13 half-stencil
  * neighbours.  It depends only on the positions, not on the number of threads, and every sum a
  * particle receives is taken in that order: trajectories are bit-identical for any thread count.
- * Pairs are held as two indices and an image code; every geometric quantity is computed in double precision.
+ * Pairs are held as two indices; the sweeps find their separation again as the minimum image
+ * (CpuDPDPairUpdateBlock), the one image closer than the cutoff (at most half of every box height).
+ * Every geometric quantity is computed in double precision.
  * Under Lees-Edwards shear the box's tilt b_x changes every step: the grid is laid out again (O(cells),
  * small against the search), and a stencil neighbour wrapped in y is seen through a shift that includes
  * b, hence the sliding offset; the pair's minimum-image y separation r e_y then carries its image.
@@ -45,19 +47,18 @@ public:
 
 private:
     /**
-     * One thread's pairs, colour after colour: sorted indices and the periodic image of j (a code of
-     * CpuDPDCellGrid), 12 bytes a pair; [0, size) is in use.  Distances and unit vectors are recomputed
-     * from the sorted positions by each sweep's vector pass, which is cheaper than storing them.
+     * One thread's pairs, colour after colour: sorted indices, 8 bytes a pair; [0, size) is in use.
+     * Distances and unit vectors are recomputed from the sorted positions by each sweep's vector pass,
+     * which is cheaper than storing them.
      */
     struct alignas(64) PairBuffer { // one cache line or more of its own: size changes with every particle searched
         std::size_t size = 0;
         std::vector<int> i, j;
-        std::vector<int> image;
         void reserveMore(std::size_t count);
     };
     /** A thread's scratch for one cell: its half stencil's particles at their shifted positions, the distance filter's hits, the cell's pair geometry. */
     struct alignas(64) CandidateSet {
-        int *index = nullptr, *image = nullptr;
+        int* index = nullptr;
         double *x = nullptr, *y = nullptr, *z = nullptr, *ex = nullptr, *ey = nullptr, *ez = nullptr, *forceMagnitude = nullptr;
         void resize(int count, std::size_t maxPairs);
 

@@ -9,7 +9,7 @@ namespace OpenMMDPD {
 
 /**
  * The velocity-independent half of a CPU pair sweep, in one vectorised pass: for a run of pairs,
- * the unit vectors e_ij (from the sorted positions and the image of j) and the affine update
+ * the unit vectors e_ij (from the sorted positions, minimum image) and the affine update
  * coefficients (slope, offset) of DPDPairFormulas.h,
  * random numbers included (R_ij = DPDPairRandom::normal(counter, i, j), drawn with the vector math
  * library).  Pairs outside their cutoff, with zero friction or between two massless particles get
@@ -32,16 +32,20 @@ public:
         double uniformInverseMass;
         const int* frictionType;
         const double* inverseMass;
-        const double *x, *y, *z;                           // wrapped positions
-        const double *imageShiftX, *imageShiftY, *imageShiftZ; // lattice shift of each image code
+        const double *x, *y, *z; // wrapped positions
+        /**
+         * OpenMM's lower-triangular box.  A pair's separation is reduced along c, b, then a (its
+         * minimum image): the pairs are closer than the cutoff, at most half of a_x, b_y and c_z,
+         * so that image is the only one within the cutoff, the one the search found.
+         */
+        const OpenMM::Vec3* box;
     };
 
     /**
-     * Fill unit vectors and coefficients of pairs [0, count) given by sorted indices i, j and the
-     * image code of j; the output arrays hold count rounded up to blockSize.
+     * Fill unit vectors and coefficients of pairs [0, count) given by sorted indices i, j; the
+     * output arrays hold count rounded up to blockSize.
      */
-    void compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count, const int* i, const int* j,
-                 const int* image);
+    void compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count, const int* i, const int* j);
 
     std::vector<double> ex, ey, ez, r, slope, offset;
 };

@@ -16,7 +16,6 @@ int findCloseGeneric(const Candidates& c, int first, int end, const double* q, d
         double r2 = dx*dx+dy*dy+dz*dz;
         // Written unconditionally, kept by advancing the count: no branch on the (unpredictable) hit.
         hits.index[numClose] = c.index[k];
-        hits.image[numClose] = c.image[k];
         hits.dx[numClose] = dx;
         hits.dy[numClose] = dy;
         hits.dz[numClose] = dz;
@@ -34,9 +33,7 @@ int findCloseAVX512(const Candidates& c, int first, int end, const double* q, do
     const double* __restrict y = c.y;
     const double* __restrict z = c.z;
     const int* __restrict candidateIndex = c.index;
-    const int* __restrict candidateImage = c.image;
     int* __restrict hitIndex = hits.index;
-    int* __restrict hitImage = hits.image;
     double* __restrict hitX = hits.dx;
     double* __restrict hitY = hits.dy;
     double* __restrict hitZ = hits.dz;
@@ -50,9 +47,8 @@ int findCloseAVX512(const Candidates& c, int first, int end, const double* q, do
         __mmask8 hit = _mm512_mask_cmp_pd_mask(valid, r2, limit, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
         // Compressed in registers and stored whole (cheaper than a compressing store to memory, and
         // no branch on the unpredictable hits); the lanes past the hits are overwritten or ignored.
-        __m256i index = _mm256_maskz_loadu_epi32(valid, candidateIndex+k), image = _mm256_maskz_loadu_epi32(valid, candidateImage+k);
+        __m256i index = _mm256_maskz_loadu_epi32(valid, candidateIndex+k);
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(hitIndex+numClose), _mm256_maskz_compress_epi32(hit, index));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(hitImage+numClose), _mm256_maskz_compress_epi32(hit, image));
         _mm512_storeu_pd(hitX+numClose, _mm512_maskz_compress_pd(hit, dx));
         _mm512_storeu_pd(hitY+numClose, _mm512_maskz_compress_pd(hit, dy));
         _mm512_storeu_pd(hitZ+numClose, _mm512_maskz_compress_pd(hit, dz));

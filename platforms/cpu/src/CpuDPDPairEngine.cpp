@@ -17,7 +17,6 @@ void CpuDPDPairEngine::PairBuffer::reserveMore(std::size_t count) {
     std::size_t capacity = std::max(i.size()+i.size()/10, size+count); // little slack: the list is most of the memory
     i.resize(capacity);
     j.resize(capacity);
-    image.resize(capacity);
 }
 
 void CpuDPDPairEngine::CandidateSet::resize(int count, std::size_t maxPairs) {
@@ -31,23 +30,22 @@ void CpuDPDPairEngine::CandidateSet::resize(int count, std::size_t maxPairs) {
     // waits for it (4K aliasing).  Left to the allocator, the offsets differed from thread to thread
     // and so did the search's speed, by up to 15 %.
     const std::size_t page = 4096/sizeof(double), stagger = 448/sizeof(double);
-    std::size_t arrays = 9, longest = std::max(static_cast<std::size_t>(candidateCapacity), pairCapacity);
+    std::size_t arrays = 8, longest = std::max(static_cast<std::size_t>(candidateCapacity), pairCapacity);
     std::size_t stride = (longest+stagger+page-1)/page*page+stagger;
     storage.resize(arrays*stride+page);
     double* base = storage.data();
     base += (page-(reinterpret_cast<std::uintptr_t>(base)/sizeof(double))%page)%page;
-    double* region[9];
+    double* region[8];
     for (std::size_t k = 0; k < arrays; k++)
         region[k] = base+k*stride;
     x = region[0];
     y = region[1];
     z = region[2];
     index = reinterpret_cast<int*>(region[3]);
-    image = reinterpret_cast<int*>(region[4]);
-    ex = region[5];
-    ey = region[6];
-    ez = region[7];
-    forceMagnitude = region[8];
+    ex = region[4];
+    ey = region[5];
+    ez = region[6];
+    forceMagnitude = region[7];
 }
 
 CpuDPDPairEngine::CpuDPDPairEngine(int numThreads)
@@ -121,7 +119,6 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
     candidates.resize(numCandidates, maxPairs);
     numCandidates = 0;
     int* __restrict candidateIndex = candidates.index;
-    int* __restrict candidateImage = candidates.image;
     double* __restrict candidateX = candidates.x;
     double* __restrict candidateY = candidates.y;
     double* __restrict candidateZ = candidates.z;
@@ -136,7 +133,6 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
             for (int k = 0; k < 8; k++) {
                 int n = numCandidates+first+k, s = begin+first+k;
                 candidateIndex[n] = s;
-                candidateImage[n] = neighbor.image;
                 candidateX[n] = sortedX[s]+shiftX;
                 candidateY[n] = sortedY[s]+shiftY;
                 candidateZ[n] = sortedZ[s]+shiftZ;
@@ -150,14 +146,14 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
     double* __restrict ey = candidates.ey;
     double* __restrict ez = candidates.ez;
     const CpuDPDDistanceFilter::Candidates run{candidates.x, candidates.y, candidates.z,
-                                               candidates.index, candidates.image};
+                                               candidates.index};
     for (int local = 0; local < numInCell; local++) {
         int a = firstOfCell+local;
         double q[3] = {sortedX[a], sortedY[a], sortedZ[a]};
         std::size_t base = buffer.size, offset = base-cellBegin;
         // The displacement d = q_a - (q_b + shift) of each hit comes with it.
         int numClose = CpuDPDDistanceFilter::findClose(run, local+1, numCandidates, q, radius2,
-                                                       {&buffer.j[base], &buffer.image[base], ex+offset, ey+offset, ez+offset});
+                                                       {&buffer.j[base], ex+offset, ey+offset, ez+offset});
         std::fill(&buffer.i[base], &buffer.i[base]+numClose, a);
         buffer.size += numClose;
     }
@@ -278,7 +274,7 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
             }
         CpuDPDPairUpdateBlock::Particles particles{grid.sortedToOriginal.data(), uniform, uniformInverseMass, sortedFrictionType.data(),
                                                    sortedInverseMass.data(), grid.sortedX.data(), grid.sortedY.data(), grid.sortedZ.data(),
-                                                   grid.imageShiftX, grid.imageShiftY, grid.imageShiftZ};
+                                                   grid.getBoxVectors()};
         gather(firstParticle, lastParticle);
         barrier.wait();
         // A thread's cells of one colour are consecutive in its buffer.  They are taken in runs of
@@ -300,7 +296,7 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
                 run.cellEnd++;
             run.pairEnd = cellPairEnd[cells[run.cellEnd-1]];
             block.compute(kind, sweep, particles, run.pairEnd-run.pairBegin, &buffers[thread].i[run.pairBegin],
-                          &buffers[thread].j[run.pairBegin], &buffers[thread].image[run.pairBegin]);
+                          &buffers[thread].j[run.pairBegin]);
             next = run.cellEnd;
             return run;
         };

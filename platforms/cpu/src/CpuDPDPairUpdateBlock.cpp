@@ -21,7 +21,7 @@ constexpr int B = static_cast<int>(CpuDPDPairUpdateBlock::blockSize);
  */
 template <CpuDPDPairUpdateBlock::Kind kind, bool uniform>
 inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,
-                   const int* __restrict pi, const int* __restrict pj, const int* __restrict image,
+                   const int* __restrict pi, const int* __restrict pj,
                    double* __restrict ex, double* __restrict ey, double* __restrict ez, double* __restrict distance,
                    double* __restrict slope, double* __restrict offset) {
     const int numTypes = sweep.friction.numTypes;
@@ -33,9 +33,9 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
     const double* __restrict x = particles.x;
     const double* __restrict y = particles.y;
     const double* __restrict z = particles.z;
-    const double* __restrict shiftX = particles.imageShiftX;
-    const double* __restrict shiftY = particles.imageShiftY;
-    const double* __restrict shiftZ = particles.imageShiftZ;
+    const OpenMM::Vec3* box = particles.box;
+    const double ax = box[0][0], bx = box[1][0], by = box[1][1], cx = box[2][0], cy = box[2][1], cz = box[2][2];
+    const double inverseAx = 1.0/ax, inverseBy = 1.0/by, inverseCz = 1.0/cz;
     const std::uint64_t randomKey = sweep.randomKey;
     const double kT = sweep.kT, dt = sweep.dt;
     const double uniformInverseMass = particles.uniformInverseMass;
@@ -48,10 +48,15 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
         for (int n = 0; n < B; n++) {
             std::size_t k = first+n;
             int i = pi[k], j = pj[k];
-            int code = image[k];
-            double dx = x[i]-x[j]-shiftX[code];
-            double dy = y[i]-y[j]-shiftY[code];
-            double dz = z[i]-z[j]-shiftZ[code];
+            double dx = x[i]-x[j], dy = y[i]-y[j], dz = z[i]-z[j];
+            double shiftC = std::nearbyint(dz*inverseCz);
+            dx -= shiftC*cx;
+            dy -= shiftC*cy;
+            dz -= shiftC*cz;
+            double shiftB = std::nearbyint(dy*inverseBy);
+            dx -= shiftB*bx;
+            dy -= shiftB*by;
+            dx -= std::nearbyint(dx*inverseAx)*ax;
             r[n] = std::sqrt(dx*dx+dy*dy+dz*dz);
             distance[k] = r[n];
             double invR = 1.0/r[n];
@@ -93,14 +98,14 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
  * numbers), AVX2 and plain x86-64, chosen at run time.  The same machine always takes the same one.
  */
 using BlockPass = void (*)(std::size_t, const DPDPairSweep&, const CpuDPDPairUpdateBlock::Particles&, const int*, const int*,
-                           const int*, double*, double*, double*, double*, double*, double*);
+                           double*, double*, double*, double*, double*, double*);
 
 #define OPENMMDPD_BLOCK_PASS(name, target)                                                                                \
     template <CpuDPDPairUpdateBlock::Kind kind, bool uniform>                                                             \
     target void name(std::size_t numBlocks, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,  \
-                     const int* pi, const int* pj, const int* image, double* ex, double* ey, double* ez,                  \
+                     const int* pi, const int* pj, double* ex, double* ey, double* ez,                                    \
                      double* r, double* slope, double* offset) {                                                           \
-        computeBlocks<kind, uniform>(numBlocks, sweep, particles, pi, pj, image, ex, ey, ez, r, slope, offset);                     \
+        computeBlocks<kind, uniform>(numBlocks, sweep, particles, pi, pj, ex, ey, ez, r, slope, offset);                            \
     }
 OPENMMDPD_BLOCK_PASS(computeBlocksAVX512, __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,fma"))))
 OPENMMDPD_BLOCK_PASS(computeBlocksAVX2, __attribute__((target("avx2,fma"))))
@@ -120,7 +125,7 @@ BlockPass selectBlockPass() {
 } // namespace
 
 void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count,
-                                    const int* i, const int* j, const int* image) {
+                                    const int* i, const int* j) {
     std::size_t wholeBlocks = count/blockSize, tail = count-wholeBlocks*blockSize;
     for (std::vector<double>* out : {&ex, &ey, &ez, &r, &slope, &offset})
         out->resize((wholeBlocks+1)*blockSize);
@@ -128,17 +133,14 @@ void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const 
         {selectBlockPass<OrnsteinUhlenbeck, false>(), selectBlockPass<BBK, false>(), selectBlockPass<DissipativeAndRandomForce, false>()},
         {selectBlockPass<OrnsteinUhlenbeck, true>(), selectBlockPass<BBK, true>(), selectBlockPass<DissipativeAndRandomForce, true>()}};
     BlockPass run = passes[particles.uniform][kind];
-    run(wholeBlocks, sweep, particles, i, j, image, ex.data(), ey.data(), ez.data(), r.data(), slope.data(), offset.data());
+    run(wholeBlocks, sweep, particles, i, j, ex.data(), ey.data(), ez.data(), r.data(), slope.data(), offset.data());
     if (tail == 0)
         return;
-    // The last pairs go through the same block code, padded with particle 0 and its image across a (distance |a| > 0).
-    int tailI[blockSize] = {}, tailJ[blockSize] = {};
-    int tailImage[blockSize];
-    std::fill(tailImage, tailImage+blockSize, 14);
+    // The last pairs go through the same block code, padded with copies of the last pair (a distance > 0).
+    int tailI[blockSize], tailJ[blockSize];
     std::size_t first = wholeBlocks*blockSize;
-    std::copy(i+first, i+count, tailI);
-    std::copy(j+first, j+count, tailJ);
-    std::copy(image+first, image+count, tailImage);
-    run(1, sweep, particles, tailI, tailJ, tailImage, ex.data()+first, ey.data()+first, ez.data()+first, r.data()+first,
+    std::fill(std::copy(i+first, i+count, tailI), tailI+blockSize, i[count-1]);
+    std::fill(std::copy(j+first, j+count, tailJ), tailJ+blockSize, j[count-1]);
+    run(1, sweep, particles, tailI, tailJ, ex.data()+first, ey.data()+first, ez.data()+first, r.data()+first,
         slope.data()+first, offset.data()+first);
 }
