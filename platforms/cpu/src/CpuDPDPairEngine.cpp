@@ -145,18 +145,10 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
     double* __restrict ex = candidates.ex;
     double* __restrict ey = candidates.ey;
     double* __restrict ez = candidates.ez;
-    const CpuDPDDistanceFilter::Candidates run{candidates.x, candidates.y, candidates.z,
-                                               candidates.index};
-    for (int local = 0; local < numInCell; local++) {
-        int a = firstOfCell+local;
-        double q[3] = {sortedX[a], sortedY[a], sortedZ[a]};
-        std::size_t base = buffer.size, offset = base-cellBegin;
-        // The displacement d = q_a - (q_b + shift) of each hit comes with it.
-        int numClose = CpuDPDDistanceFilter::findClose(run, local+1, numCandidates, q, radius2,
-                                                       {&buffer.j[base], ex+offset, ey+offset, ez+offset});
-        std::fill(&buffer.i[base], &buffer.i[base]+numClose, a);
-        buffer.size += numClose;
-    }
+    // The displacement d = q_a - (q_b + shift) of each hit comes with it.
+    buffer.size += CpuDPDDistanceFilter::findPairsOfCell({candidates.x, candidates.y, candidates.z, candidates.index}, numInCell,
+                                                         numCandidates, firstOfCell, radius2,
+                                                         {&buffer.i[cellBegin], &buffer.j[cellBegin], ex, ey, ez});
     if (repulsion == nullptr)
         return;
     // The force pass runs over whole vectors: the pairs are padded to a multiple of 8 with harmless
