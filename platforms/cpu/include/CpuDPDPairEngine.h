@@ -126,7 +126,6 @@ private:
     std::vector<int> sortedRepulsionType, sortedFrictionType;
     std::vector<double> inverseRepulsionCutoff;       // 1/r_c per type pair of the DPDForce being evaluated
     std::vector<double> sortedInverseMass;            // gathered only when the sweep is not uniform
-    std::vector<char> uniformMassOfThread;            // per thread: its share of the masses are all equal
     bool uniformSweep = false;                        // one friction type, one mass: no per-particle parameters
     double uniformInverseMass = 0.0;
 };

@@ -2,14 +2,27 @@
 #define OPENMMDPD_CPUDPDTHREADBARRIER_H_
 
 #include <atomic>
+#include <immintrin.h>
 #include <thread>
 
 namespace OpenMMDPD {
 
 /**
+ * One step of a spin-wait: a pause (which leaves the core's resources to a sibling hardware thread
+ * and to the thread being waited for), and now and then a yield, so that a machine with more threads
+ * than cores (Threads above the core count) still runs the threads that have work.
+ */
+inline void pauseOrYield(int spins) {
+    if (spins%64 == 0)
+        std::this_thread::yield();
+    else
+        _mm_pause();
+}
+
+/**
  * A reusable barrier for the threads of one CpuDPDThreadTeam task: the colour-by-colour sweeps pass one
- * per colour, far too often for OpenMM's condition-variable hand-over.  Waiting threads spin briefly,
- * then yield, so an oversubscribed machine is not starved.
+ * per colour, far too often for OpenMM's condition-variable hand-over.  Waiting threads spin
+ * (pauseOrYield).
  */
 class CpuDPDThreadBarrier {
 public:
@@ -25,9 +38,8 @@ public:
             passed.fetch_add(1, std::memory_order_acq_rel);
             return;
         }
-        for (int spins = 0; passed.load(std::memory_order_acquire) == generation; spins++)
-            if (spins > 2000)
-                std::this_thread::yield();
+        for (int spins = 1; passed.load(std::memory_order_acquire) == generation; spins++)
+            pauseOrYield(spins);
     }
 
 private:

@@ -244,20 +244,13 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
     sortedInverseMass.resize(numParticles);
     if (sweep.stress != nullptr)
         cellStress.resize(grid.getNumCells());
-    uniformMassOfThread.assign(numThreads, 1);
+    // One friction type and one mass (the usual DPD fluid): the pass needs no per-particle parameters.
+    bool uniform = sweep.friction.numTypes == 1 && sweep.uniformInverseMass;
+    uniformSweep = uniform;
     uniformInverseMass = numParticles > 0 ? sweep.inverseMasses[0] : 0.0;
     onThreads([&](int thread) {
         int firstParticle = particleRangeBegin(thread, numParticles), lastParticle = particleRangeBegin(thread+1, numParticles);
-        // One friction type and one mass (the usual DPD fluid): the pass needs no per-particle parameters.
         const double* inverseMass = sweep.inverseMasses.data();
-        bool sameMass = true;
-        for (int i = firstParticle; i < lastParticle; i++)
-            sameMass &= inverseMass[i] == uniformInverseMass;
-        uniformMassOfThread[thread] = sameMass;
-        barrier.wait();
-        bool uniform = sweep.friction.numTypes == 1 && std::all_of(uniformMassOfThread.begin(), uniformMassOfThread.end(), [](char same) { return same != 0; });
-        if (thread == 0)
-            uniformSweep = uniform; // read by apply() only after the barrier below
         if (!uniform)
             for (int s = firstParticle; s < lastParticle; s++) {
                 int original = grid.sortedToOriginal[s];

@@ -1,6 +1,6 @@
 #include "CpuDPDThreadTeam.h"
+#include "CpuDPDThreadBarrier.h"
 #include <chrono>
-#include <immintrin.h>
 
 using namespace OpenMMDPD;
 
@@ -8,17 +8,6 @@ namespace {
 
 /** How long a worker spins for the next task before it sleeps. */
 constexpr auto spinTime = std::chrono::microseconds(1000);
-
-/**
- * One step of a spin: a pause, and now and then a yield, so that a machine with more threads than
- * cores (Threads above the core count) still runs the threads that have work.
- */
-inline void pauseOrYield(int spins) {
-    if (spins%64 == 0)
-        std::this_thread::yield();
-    else
-        _mm_pause();
-}
 
 } // namespace
 

@@ -47,6 +47,7 @@ struct DPDPairStressSums {
 struct DPDPairSweep {
     const DPDTypePairTable::Compiled& friction;
     const std::vector<double>& inverseMasses;
+    bool uniformInverseMass; // every entry of inverseMasses is the same (the usual DPD fluid of one mass)
     double kT, dt;
     std::uint64_t randomKey;
     double shearRate = 0.0;

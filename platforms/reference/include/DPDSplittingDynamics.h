@@ -89,7 +89,7 @@ private:
     DPDPairEngine& evaluateForcesAndPairs(OpenMM::ContextImpl& context);
     /** The parameters of the next pair sweep over a sub-step dt (each sweep draws new random numbers). */
     DPDPairSweep nextSweep(double dt, DPDPairStressSums* stressSums = nullptr) {
-        return {friction, inverseMasses, kT, dt, random.sweepKey(sweepCounter++), leesEdwards.getShearRate(), stressSums};
+        return {friction, inverseMasses, uniformInverseMass, kT, dt, random.sweepKey(sweepCounter++), leesEdwards.getShearRate(), stressSums};
     }
     /** F(q) and G(q) of the integrator's forcing profile at the given positions; returns F . G. */
     double evaluateForcingFields(const DPDIntegrator& integrator, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
@@ -108,6 +108,7 @@ private:
     std::vector<int> virtualSites;       // their positions are recomputed after every drift
     bool externalStateUnchecked = true;  // positions or velocities were set from outside since the last check
     std::vector<double> masses, inverseMasses;
+    bool uniformInverseMass = true; // all of inverseMasses equal
     int integrationGroups;
     DPDPairRandom random;
     unsigned long long sweepCounter = 0;

@@ -81,6 +81,7 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
         masses[i] = system.getParticleMass(i);
         inverseMasses[i] = masses[i] == 0.0 ? 0.0 : 1.0/masses[i];
     }
+    uniformInverseMass = std::all_of(inverseMasses.begin(), inverseMasses.end(), [&](double m) { return m == inverseMasses[0]; });
     ownEngine = makeEngine(); // also runs the per-particle loops (kick, drift) on the platform's threads
     int seed = integrator.getRandomNumberSeed();
     random = DPDPairRandom(seed != 0 ? static_cast<std::uint64_t>(seed) : std::random_device()());
