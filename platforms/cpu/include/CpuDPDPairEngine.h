@@ -23,6 +23,8 @@ namespace OpenMMDPD {
  * block by block and cell by cell in index order; within a cell, its particles in sorted order, each with the cell itself and then its 13 half-stencil
  * neighbours.  It depends only on the positions, not on the number of threads, and every sum a
  * particle receives is taken in that order: trajectories are bit-identical for any thread count.
+ * (A thread sweeps its blocks of a colour as two streams side by side, CpuDPDSuccessiveSweep: they
+ * share no particle, so each particle still receives its updates in that order.)
  * Pairs are held as two indices; the sweeps find their separation again as the minimum image
  * (CpuDPDPairUpdateBlock), the one image closer than the cutoff (at most half of every box height).
  * Every geometric quantity is computed in double precision.
