@@ -77,12 +77,8 @@ void CpuDPDPairEngine::forEachParticleRange(int count, const std::function<void(
 void CpuDPDPairEngine::cellsOfThread(int color, int thread, int& begin, int& end) const {
     // Whole blocks: thread t starts at the first block of the colour that begins at or after t/T of its cells.
     int first = grid.colorStart[color], count = grid.colorStart[color+1]-first;
-    auto blocksBegin = grid.blockStart.begin()+grid.colorBlockStart[color], blocksEnd = grid.blockStart.begin()+grid.colorBlockStart[color+1];
     auto boundary = [&](int t) {
-        if (t == numThreads)
-            return first+count;
-        int target = first+CpuDPDCellGrid::shareBegin(count, t, numThreads);
-        return *std::lower_bound(blocksBegin, blocksEnd, target);
+        return blockBoundaryFrom(color, first+CpuDPDCellGrid::shareBegin(count, t, numThreads), first+count);
     };
     begin = boundary(thread);
     end = boundary(thread+1);
