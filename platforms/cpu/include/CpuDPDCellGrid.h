@@ -60,10 +60,32 @@ public:
         blockParticles.resize(numThreads);
         for (std::vector<std::vector<int>>& lists : blockParticles)
             lists.resize(numThreads);
+        blockSlots.resize(numThreads);
+        for (std::vector<std::vector<int>>& lists : blockSlots)
+            lists.resize(numThreads);
     }
     void partitionByBlock(int thread, int begin, int end);
     void countCellBlock(int thread);
     void placeCellBlock(int thread);
+    /**
+     * visit(i, s) for every particle i that thread t located (its range of System order), with its
+     * sorted index s.  A thread that writes per-particle results back to System order this way writes
+     * only its own range: with several threads, no cache line takes writes from two of them.
+     */
+    template <class Visit>
+    void forEachLocatedParticle(int thread, Visit visit) const {
+        if (blockParticles.size() == 1) {
+            for (int s = 0, n = static_cast<int>(sortedToOriginal.size()); s < n; s++)
+                visit(sortedToOriginal[s], s);
+            return;
+        }
+        for (std::size_t owner = 0; owner < blockParticles.size(); owner++) {
+            const std::vector<int>& particles = blockParticles[thread][owner];
+            const std::vector<int>& slots = blockSlots[thread][owner];
+            for (std::size_t k = 0; k < particles.size(); k++)
+                visit(particles[k], slots[k]);
+        }
+    }
     /** The sorted particles [begin, end) of thread t's block of cells (after placeCellBlock). */
     void sortedRangeOfThread(int thread, int& begin, int& end) const;
     void gatherSortedPositions(int begin, int end);
@@ -101,6 +123,7 @@ private:
     std::vector<std::vector<int>> threadSlots; // per thread and cell of its block: its particle count, then its next slot
     std::vector<int> blockTotal;               // per thread: the particles in its block of cells
     std::vector<std::vector<std::vector<int>>> blockParticles; // [locating thread][block's thread]: particles, in System order
+    std::vector<std::vector<std::vector<int>>> blockSlots;     // the same, their sorted indices
     /** visit(i) for the particles of thread t's block of cells, in System order. */
     template <class Visit>
     void forEachParticleOfBlock(int thread, Visit visit) const {

@@ -88,16 +88,18 @@ private:
     };
     /** The streams of runs a thread sweeps side by side (CpuDPDSuccessiveSweep). */
     static constexpr int numStreams = CpuDPDSuccessiveSweep::numRuns;
+    /** Writes a thread's share of the sorted results back to System order (CpuDPDCellGrid::forEachLocatedParticle). */
+    using ScatterTask = std::function<void(int thread)>;
     /** Sweeps numStreams runs whose pairs share no particle; some may be empty. */
     using RunTask = std::function<void(int thread, const PairRun* runs)>;
     /**
      * The successive sweep shared by O, BBK and VV, in one task on the threads: each thread gathers
      * its share of the particles into sorted order, then per colour its pairs get their coefficients
-     * in one vector pass and apply(two runs of cells) sweeps them, then each thread scatters its
-     * share back.
+     * in one vector pass and apply(two runs of cells) sweeps them, then each thread scatters the
+     * particles it located back to System order.
      */
     void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
-                      const RunTask& apply, const ParticleRangeTask& scatter);
+                      const RunTask& apply, const ScatterTask& scatter);
     /** The first boundary of a block of the colour at or after `cell` of sweep order, at most end. */
     int blockBoundaryFrom(int color, int cell, int end) const;
     /**

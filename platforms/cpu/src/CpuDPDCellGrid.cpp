@@ -256,7 +256,22 @@ void CpuDPDCellGrid::placeCellBlock(int thread) {
         cellStart[getNumCells()] = static_cast<int>(cellOfParticle.size());
     int* sorted = sortedToOriginal.data();
     const int* cellOf = cellOfParticle.data();
-    forEachParticleOfBlock(thread, [&](int i) { sorted[next[cellOf[i]-first]++] = i; });
+    if (blockParticles.size() == 1) {
+        forEachParticleOfBlock(thread, [&](int i) { sorted[next[cellOf[i]-first]++] = i; });
+        return;
+    }
+    // With several threads, each particle's sorted index is also kept next to it in its locating
+    // thread's list, for forEachLocatedParticle.
+    for (std::size_t locator = 0; locator < blockParticles.size(); locator++) {
+        const std::vector<int>& particles = blockParticles[locator][thread];
+        std::vector<int>& slots = blockSlots[locator][thread];
+        slots.resize(particles.size());
+        for (std::size_t k = 0; k < particles.size(); k++) {
+            int i = particles[k], s = next[cellOf[i]-first]++;
+            sorted[s] = i;
+            slots[k] = s;
+        }
+    }
 }
 
 void CpuDPDCellGrid::sortedRangeOfThread(int thread, int& begin, int& end) const {

@@ -220,9 +220,8 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
             if (repulsion != nullptr) // the forces of one colour's cells touch no particle twice
                 barrier.wait();
         }
-        if (repulsion != nullptr)
-            for (int s = first; s < last; s++)
-                (*forces)[grid.sortedToOriginal[s]] += sortedForces[s];
+        if (repulsion != nullptr) // every colour's forces are in (the barrier above)
+            grid.forEachLocatedParticle(thread, [&](int i, int s) { (*forces)[i] += sortedForces[s]; });
     });
     for (int bad : nonFinite)
         if (bad >= 0)
@@ -234,7 +233,7 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
 }
 
 void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
-                                    const RunTask& apply, const ParticleRangeTask& scatter) {
+                                    const RunTask& apply, const ScatterTask& scatter) {
     int numParticles = static_cast<int>(grid.sortedToOriginal.size());
     sortedFrictionType.resize(numParticles);
     sortedInverseMass.resize(numParticles);
@@ -304,7 +303,7 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
             }
             barrier.wait();
         }
-        scatter(firstParticle, lastParticle);
+        scatter(thread);
     });
 }
 
@@ -384,10 +383,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
                     sweepCell(std::false_type(), thread, cell, cellPairBegin[cell], cellPairEnd[cell], *runs[run].block, runs[run].pairBegin);
             }
     };
-    auto scatter = [&](int begin, int end) {
-        for (int s = begin; s < end; s++)
-            velocities[original[s]] = sortedVelocities[s];
-    };
+    auto scatter = [&](int thread) { grid.forEachLocatedParticle(thread, [&](int i, int s) { velocities[i] = sortedVelocities[s]; }); };
     sweepByColor(sweep, kind, gather, apply, scatter);
     sumCellStress(sweep);
     double responseOfDissipation = 0.0;
@@ -436,10 +432,7 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
             for (int k = runs[run].cellBegin; k < runs[run].cellEnd; k++)
                 applyToCell(thread, grid.cellsInSweepOrder[k], *runs[run].block, runs[run].pairBegin);
     };
-    auto scatter = [&](int begin, int end) {
-        for (int s = begin; s < end; s++)
-            forces[original[s]] += sortedForces[s];
-    };
+    auto scatter = [&](int thread) { grid.forEachLocatedParticle(thread, [&](int i, int s) { forces[i] += sortedForces[s]; }); };
     sweepByColor(sweep, CpuDPDPairUpdateBlock::DissipativeAndRandomForce, gather, apply, scatter);
     sumCellStress(sweep);
 }
