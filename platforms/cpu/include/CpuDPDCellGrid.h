@@ -57,11 +57,8 @@ public:
     void setNumThreads(int numThreads) {
         threadSlots.resize(numThreads);
         blockTotal.resize(numThreads);
-        blockParticles.resize(numThreads);
-        for (std::vector<std::vector<int>>& lists : blockParticles)
-            lists.resize(numThreads);
-        blockSlots.resize(numThreads);
-        for (std::vector<std::vector<int>>& lists : blockSlots)
+        blockLists.resize(numThreads);
+        for (std::vector<BlockList>& lists : blockLists)
             lists.resize(numThreads);
     }
     void partitionByBlock(int thread, int begin, int end);
@@ -74,17 +71,14 @@ public:
      */
     template <class Visit>
     void forEachLocatedParticle(int thread, Visit visit) const {
-        if (blockParticles.size() == 1) {
+        if (blockLists.size() == 1) {
             for (int s = 0, n = static_cast<int>(sortedToOriginal.size()); s < n; s++)
                 visit(sortedToOriginal[s], s);
             return;
         }
-        for (std::size_t owner = 0; owner < blockParticles.size(); owner++) {
-            const std::vector<int>& particles = blockParticles[thread][owner];
-            const std::vector<int>& slots = blockSlots[thread][owner];
-            for (std::size_t k = 0; k < particles.size(); k++)
-                visit(particles[k], slots[k]);
-        }
+        for (const BlockList& list : blockLists[thread])
+            for (std::size_t k = 0; k < list.size; k++)
+                visit(list.particles[k], list.slots[k]);
     }
     /** The sorted particles [begin, end) of thread t's block of cells (after placeCellBlock). */
     void sortedRangeOfThread(int thread, int& begin, int& end) const;
@@ -122,30 +116,34 @@ private:
     std::vector<int> cellOfParticle;
     std::vector<std::vector<int>> threadSlots; // per thread and cell of its block: its particle count, then its next slot
     std::vector<int> blockTotal;               // per thread: the particles in its block of cells
-    std::vector<std::vector<std::vector<int>>> blockParticles; // [locating thread][block's thread]: particles, in System order
-    std::vector<std::vector<std::vector<int>>> blockSlots;     // the same, their sorted indices
+    /**
+     * The particles that one thread located and another's block of cells holds, in System order, and
+     * their sorted indices: entries [0, size) of the two arrays.  A cache line each: the locating
+     * threads fill their lists at the same time, and list headers sharing a line made that up to 5
+     * times slower, depending on where the heap put them.
+     */
+    struct alignas(64) BlockList {
+        std::vector<int> particles, slots;
+        std::size_t size = 0;
+    };
+    std::vector<std::vector<BlockList>> blockLists; // [locating thread][block's thread]
     /** visit(i) for the particles of thread t's block of cells, in System order. */
     template <class Visit>
     void forEachParticleOfBlock(int thread, Visit visit) const {
-        if (blockParticles.size() == 1) {
+        if (blockLists.size() == 1) {
             for (int i = 0, n = static_cast<int>(cellOfParticle.size()); i < n; i++)
                 visit(i);
             return;
         }
-        for (const std::vector<std::vector<int>>& lists : blockParticles) // the locating threads' ranges are in System order
-            for (int i : lists[thread])
-                visit(i);
+        for (const std::vector<BlockList>& lists : blockLists) // the locating threads' ranges are in System order
+            for (std::size_t k = 0; k < lists[thread].size; k++)
+                visit(lists[thread].particles[k]);
     }
-    /** The block of cells [begin, end) that a thread sorts; blockOwner(cell) is the thread whose block holds a cell. */
+    /** The block of cells [begin, end) that a thread sorts. */
     void cellBlock(int thread, int& begin, int& end) const {
         int numThreads = static_cast<int>(threadSlots.size());
         begin = shareBegin(getNumCells(), thread, numThreads);
         end = shareBegin(getNumCells(), thread+1, numThreads);
-    }
-    int blockOwner(int cell) const {
-        // The last t with shareBegin(numCells, t, T) <= cell, i.e. floor(numCells t / T) <= cell.
-        long long numCells = getNumCells(), numThreads = static_cast<long long>(threadSlots.size());
-        return static_cast<int>(std::min(numThreads-1, ((cell+1LL)*numThreads+numCells-1)/numCells-1));
     }
     std::vector<OpenMM::Vec3> wrappedPositions;
 };

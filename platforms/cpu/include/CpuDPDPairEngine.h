@@ -1,12 +1,14 @@
 #ifndef OPENMMDPD_CPUDPDPAIRENGINE_H_
 #define OPENMMDPD_CPUDPDPAIRENGINE_H_
 
+#include "CpuDPDBlockQueue.h"
 #include "CpuDPDCellGrid.h"
 #include "CpuDPDPairUpdateBlock.h"
 #include "CpuDPDSuccessiveSweep.h"
 #include "CpuDPDThreadBarrier.h"
 #include "CpuDPDThreadTeam.h"
 #include "DPDPairEngine.h"
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -16,15 +18,16 @@ namespace OpenMMDPD {
 /**
  * The CPU platform's DPD pairs: its own cell list (CpuDPDCellGrid) searched from scratch at every
  * evaluation, the conservative force added in the same pass, and pair sweeps that run colour by
- * colour.  Within a colour, blocks of cells share no particle, so the threads take contiguous runs of
- * its blocks and update velocities (or forces) without locks; colours follow one another behind a barrier.
+ * colour.  Within a colour, blocks of cells share no particle, so the threads take its blocks (each
+ * its own share first, then what is left of the others', CpuDPDBlockQueue) and update velocities (or
+ * forces) without locks; colours follow one another behind a barrier.
  *
  * The pair order is therefore: colour by colour (CpuDPDCellGrid); within a colour,
  * block by block and cell by cell in index order; within a cell, its particles in sorted order, each with the cell itself and then its 13 half-stencil
  * neighbours.  It depends only on the positions, not on the number of threads, and every sum a
  * particle receives is taken in that order: trajectories are bit-identical for any thread count.
- * (A thread sweeps its blocks of a colour as two streams side by side, CpuDPDSuccessiveSweep: they
- * share no particle, so each particle still receives its updates in that order.)
+ * (Which thread takes a block does not matter, and a thread sweeps two runs of blocks side by side,
+ * CpuDPDSuccessiveSweep: they share no particle, so each particle still receives its updates in that order.)
  * Pairs are held as two indices; the sweeps find their separation again as the minimum image
  * (CpuDPDPairUpdateBlock), the one image closer than the cutoff (at most half of every box height).
  * Every geometric quantity is computed in double precision.
@@ -41,6 +44,9 @@ public:
     double getRadius() const override { return radius; }
     double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
                                           const std::vector<OpenMM::Vec3>* response) override;
+    /** The kicks ride on the sweep's gather into sorted order and its scatter back (no passes of their own). */
+    bool applyKickedOrnsteinUhlenbeck(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& forces, double halfStep,
+                                      std::vector<OpenMM::Vec3>& velocities) override;
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
@@ -71,19 +77,19 @@ private:
     };
     /** Run body(thread) on every thread (directly when there is one). */
     void onThreads(const std::function<void(int)>& body);
-    /** The cells [begin, end) of sweep order that a thread takes within a colour. */
-    void cellsOfThread(int color, int thread, int& begin, int& end) const;
+    /** Give a thread its share of a colour's blocks in blockQueue: about 1/numThreads of the colour's cells. */
+    void shareBlocksOfColor(int color, int thread);
     void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates);
     /** The first sorted particle of a thread's share of [0, numParticles). */
     int particleRangeBegin(int thread, int numParticles) const { return CpuDPDCellGrid::shareBegin(numParticles, thread, numThreads); }
     using ParticleRangeTask = std::function<void(int begin, int end)>;
     /**
-     * Consecutive cells [cellBegin, cellEnd) of sweep order, all of one thread and colour, and their
-     * pairs [pairBegin, pairEnd) in the thread's buffer, whose coefficients `block` holds from its
-     * entry 0 (pair pairBegin) on.  Empty when cellBegin == cellEnd.
+     * Consecutive cells [cellBegin, cellEnd) of sweep order, whole blocks of one colour, and their
+     * pairs [pairBegin, pairEnd) in the search buffer of thread `buffer`, whose coefficients `block`
+     * holds from its entry 0 (pair pairBegin) on.  Empty when cellBegin == cellEnd.
      */
     struct PairRun {
-        int cellBegin, cellEnd, pairBegin, pairEnd;
+        int cellBegin, cellEnd, pairBegin, pairEnd, buffer;
         const CpuDPDPairUpdateBlock* block;
     };
     /** The streams of runs a thread sweeps side by side (CpuDPDSuccessiveSweep). */
@@ -100,14 +106,18 @@ private:
      */
     void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                       const RunTask& apply, const ScatterTask& scatter);
-    /** The first boundary of a block of the colour at or after `cell` of sweep order, at most end. */
-    int blockBoundaryFrom(int color, int cell, int end) const;
+    /** Kicks v += F (halfStep/m) before and after a velocity sweep, applied as it gathers and scatters the velocities. */
+    struct FoldedKicks {
+        const std::vector<OpenMM::Vec3>& forces;
+        double halfStep;
+        std::atomic<bool> allFinite{true}; // after the second kick
+    };
     /**
      * The successive velocity sweep of O (exact OU) and S1 (BBK): Delta p = slope u + offset per pair.
      * With `response` (Norton), also returns G . Delta p^D summed cell by cell in sweep order.
      */
     double sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, std::vector<OpenMM::Vec3>& velocities,
-                           const std::vector<OpenMM::Vec3>* response);
+                           const std::vector<OpenMM::Vec3>* response, FoldedKicks* kicks = nullptr);
     /** The stress sums of one cell, cleared, when the sweep gathers stress; else null. */
     DPDPairStressSums* cellStressOf(const DPDPairSweep& sweep, int cell);
     static void addPairStress(DPDPairStressSums& sums, double r, const OpenMM::Vec3& e, double dissipative, double random);
@@ -121,7 +131,9 @@ private:
     double radius = 0.0;
     std::vector<PairBuffer> buffers;                 // one per thread
     std::vector<CandidateSet> candidateSets;          // one per thread
-    std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its thread's buffer
+    CpuDPDBlockQueue blockQueue;                      // a colour's blocks, shared among the threads
+    std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its searching thread's buffer
+    std::vector<int> cellBuffer;                      // the thread that searched a cell (its buffer holds the pairs)
     std::vector<CpuDPDPairUpdateBlock> blocks;        // per thread, one per stream of runs
     std::vector<DPDPairStressSums> cellStress;        // per-cell pair stress sums of a sweep that gathers stress
     std::vector<int> nonFinite;                       // per thread: the first particle found with a non-finite position, or -1

@@ -219,11 +219,28 @@ void CpuDPDCellGrid::partitionByBlock(int thread, int begin, int end) {
     // Particle i goes to the thread whose block holds its cell.
     if (threadSlots.size() == 1)
         return; // the one thread takes every particle in order
-    std::vector<std::vector<int>>& lists = blockParticles[thread];
-    for (std::vector<int>& list : lists)
-        list.clear();
-    for (int i = begin; i < end; i++)
-        lists[blockOwner(cellOfParticle[i])].push_back(i);
+    // Without a branch on the owner (it is random in System order): a sum of comparisons, a store
+    // into lists sized for the worst case.
+    std::vector<BlockList>& lists = blockLists[thread];
+    int numThreads = static_cast<int>(lists.size());
+    std::vector<int> blockBegin(numThreads), count(numThreads, 0);
+    std::vector<int*> out(numThreads);
+    for (int t = 0; t < numThreads; t++) {
+        int last;
+        cellBlock(t, blockBegin[t], last);
+        if (lists[t].particles.size() < static_cast<std::size_t>(end-begin))
+            lists[t].particles.resize(end-begin);
+        out[t] = lists[t].particles.data();
+    }
+    const int* cellOf = cellOfParticle.data();
+    for (int i = begin; i < end; i++) {
+        int owner = 0;
+        for (int t = 1; t < numThreads; t++)
+            owner += cellOf[i] >= blockBegin[t];
+        out[owner][count[owner]++] = i;
+    }
+    for (int t = 0; t < numThreads; t++)
+        lists[t].size = count[t];
 }
 
 void CpuDPDCellGrid::countCellBlock(int thread) {
@@ -256,17 +273,17 @@ void CpuDPDCellGrid::placeCellBlock(int thread) {
         cellStart[getNumCells()] = static_cast<int>(cellOfParticle.size());
     int* sorted = sortedToOriginal.data();
     const int* cellOf = cellOfParticle.data();
-    if (blockParticles.size() == 1) {
+    if (blockLists.size() == 1) {
         forEachParticleOfBlock(thread, [&](int i) { sorted[next[cellOf[i]-first]++] = i; });
         return;
     }
     // With several threads, each particle's sorted index is also kept next to it in its locating
     // thread's list, for forEachLocatedParticle.
-    for (std::size_t locator = 0; locator < blockParticles.size(); locator++) {
-        const std::vector<int>& particles = blockParticles[locator][thread];
-        std::vector<int>& slots = blockSlots[locator][thread];
-        slots.resize(particles.size());
-        for (std::size_t k = 0; k < particles.size(); k++) {
+    for (std::vector<BlockList>& lists : blockLists) {
+        const std::vector<int>& particles = lists[thread].particles;
+        std::vector<int>& slots = lists[thread].slots;
+        slots.resize(std::max(slots.size(), lists[thread].size));
+        for (std::size_t k = 0; k < lists[thread].size; k++) {
             int i = particles[k], s = next[cellOf[i]-first]++;
             sorted[s] = i;
             slots[k] = s;

@@ -6,6 +6,7 @@
 #include "openmmdpd/DPDTypePairTable.h"
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -85,6 +86,14 @@ public:
      */
     virtual double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
                                                   const std::vector<OpenMM::Vec3>* response) = 0;
+    /**
+     * ABOBA's B O B (eqs. 2.20-2.23) in one call: a kick v += F (halfStep/m) by `forces`, the exact
+     * O sweep, a second such kick; returns whether every velocity is then finite.  The default does
+     * the three one after another; an engine may fold the kicks into its own passes over the
+     * velocities, with the same arithmetic (kickedVelocity), hence the same bits.
+     */
+    virtual bool applyKickedOrnsteinUhlenbeck(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& forces, double halfStep,
+                                              std::vector<OpenMM::Vec3>& velocities);
     /** Shardlow's successive BBK sweep of DPD-S1 (eq. 2.12). */
     virtual void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) = 0;
     /** VV's dissipative and random pair forces F^D + F^R (eqs. 2.2b, 2.2c) at these velocities, added to `forces`. */
@@ -97,6 +106,15 @@ public:
      * default runs body(0, count).
      */
     virtual void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) { body(0, count); }
+    /** The B step, v += F (dt/m) (eq. 2.5b), on the platform's threads; returns whether every velocity is then finite. */
+    bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, const std::vector<double>& inverseMasses,
+              double dt);
+    /** One particle's kick, the one formula of every kick: v + F dtOverMass, dtOverMass = dt/m (0 for a massless particle). */
+    static OpenMM::Vec3 kickedVelocity(const OpenMM::Vec3& velocity, const OpenMM::Vec3& force, double dtOverMass) {
+        return velocity + force*dtOverMass;
+    }
+    /** v . v is finite: false for a NaN or infinite component, and for a velocity too large to square. */
+    static bool isFiniteVelocity(const OpenMM::Vec3& velocity) { return velocity.dot(velocity) <= std::numeric_limits<double>::max(); }
 };
 
 /** How a platform makes its engines (one for a DPDForce kernel, one for an integrator's own pairs). */

@@ -217,17 +217,7 @@ void DPDSplittingDynamics::moveImages(OpenMM::ContextImpl& context, double elaps
 }
 
 bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt) const {
-    std::atomic<bool> allFinite{true};
-    ownEngine->forEachParticleRange(static_cast<int>(velocities.size()), [&](int begin, int end) {
-        bool finite = true;
-        for (int i = begin; i < end; i++) {
-            velocities[i] += forces[i]*(dt*inverseMasses[i]);
-            finite &= velocities[i].dot(velocities[i]) <= std::numeric_limits<double>::max();
-        }
-        if (!finite)
-            allFinite.store(false);
-    });
-    return allFinite.load();
+    return ownEngine->kick(velocities, forces, inverseMasses, dt);
 }
 
 DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context) {
@@ -309,15 +299,23 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     double eta = integrator.getForcingStrength();
     if (nemd)
         evaluateForcingFields(integrator, state.positions, state.box);          // F(q^{n+1/2}) of eq. 6
-    kick(state.velocities, state.forces, 0.5*dt);                               // B(dt/2), eq. 2.20
-    if (nemd)
-        applyForcingImpulse(0.5*dt*eta, state.velocities);                      // + eta F dt/2 (NEMD's B, eq. 17)
-    if (!friction.allValuesZero)
-        pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
-    if (!kick(state.velocities, state.forces, 0.5*dt))                          // B(dt/2), eq. 2.23
-        throwNonFinite(context, "velocities");
-    if (nemd)
-        applyForcingImpulse(0.5*dt*eta, state.velocities);
+    if (!nemd && !friction.allValuesZero) {
+        // B(dt/2) O(dt) B(dt/2), eqs. 2.20-2.23, in one call: the engine may fold the kicks into the
+        // sweep's own passes over the velocities.
+        if (!pairs.applyKickedOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.forces, 0.5*dt, state.velocities))
+            throwNonFinite(context, "velocities");
+    }
+    else {
+        kick(state.velocities, state.forces, 0.5*dt);                           // B(dt/2), eq. 2.20
+        if (nemd)
+            applyForcingImpulse(0.5*dt*eta, state.velocities);                  // + eta F dt/2 (NEMD's B, eq. 17)
+        if (!friction.allValuesZero)
+            pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
+        if (!kick(state.velocities, state.forces, 0.5*dt))                      // B(dt/2), eq. 2.23
+            throwNonFinite(context, "velocities");
+        if (nemd)
+            applyForcingImpulse(0.5*dt*eta, state.velocities);
+    }
     if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.24
         throwNonFinite(context, "positions", particle);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
