@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_CPUDPDBLOCKQUEUE_H_
 #define OPENMMDPD_CPUDPDBLOCKQUEUE_H_
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -25,6 +26,11 @@ public:
     }
     /** Thread `thread` owns blocks [begin, end) now; each thread sets its own share. */
     void share(int thread, int begin, int end) { shares[thread].bounds.store(pack(begin, end), std::memory_order_release); }
+    /** How many blocks are left in the thread's own share. */
+    int ownLeft(int thread) const {
+        std::uint64_t current = shares[thread].bounds.load(std::memory_order_relaxed);
+        return std::max(0, static_cast<int>(current >> 32)-static_cast<int>(current & 0xffffffffu));
+    }
     /** The front block of the thread's own share, or -1 when it is done. */
     int takeOwn(int thread) { return takeFrom(shares[thread].bounds, true); }
     /** The front block of the thread's own share, else the back block of another's, or -1 when every share is done. */

@@ -45,8 +45,8 @@ public:
     double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
                                           const std::vector<OpenMM::Vec3>* response) override;
     /** The kicks ride on the sweep's gather into sorted order and its scatter back (no passes of their own). */
-    bool applyKickedOrnsteinUhlenbeck(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& forces, double halfStep,
-                                      std::vector<OpenMM::Vec3>& velocities) override;
+    bool applyKickedVelocitySweep(VelocitySweep kind, const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& forces, double before,
+                                  double after, std::vector<OpenMM::Vec3>& velocities) override;
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
@@ -106,10 +106,10 @@ private:
      */
     void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                       const RunTask& apply, const ScatterTask& scatter);
-    /** Kicks v += F (halfStep/m) before and after a velocity sweep, applied as it gathers and scatters the velocities. */
+    /** Kicks v += F (before/m) and v += F (after/m) around a velocity sweep, applied as it gathers and scatters the velocities (0: none). */
     struct FoldedKicks {
         const std::vector<OpenMM::Vec3>& forces;
-        double halfStep;
+        double before, after;
         std::atomic<bool> allFinite{true}; // after the second kick
     };
     /**

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 using namespace OpenMMDPD;
@@ -281,7 +282,10 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
             run.buffer = cellBuffer[cells[run.cellBegin]];
             run.pairBegin = cellPairBegin[cells[run.cellBegin]];
             run.pairEnd = cellPairEnd[cells[run.cellEnd-1]];
-            for (int last = first; run.pairEnd-run.pairBegin < pairsPerRun; last++) {
+            // Towards the end of its share a thread takes fewer blocks at a time, so that the others,
+            // which take from its back, finish with it.
+            int lastAllowed = numThreads == 1 ? std::numeric_limits<int>::max() : first+blockQueue.ownLeft(thread)/4;
+            for (int last = first; run.pairEnd-run.pairBegin < pairsPerRun && last < lastAllowed; last++) {
                 int next = blockQueue.takeOwn(thread);
                 if (next < 0)
                     break;
@@ -343,13 +347,13 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     if (response != nullptr)
         sortedResponse.resize(original.size());
     auto gather = [&](int begin, int end) {
-        if (kicks == nullptr)
+        if (kicks == nullptr || kicks->before == 0.0)
             for (int s = begin; s < end; s++)
                 sortedVelocities[s] = velocities[original[s]];
         else
             for (int s = begin; s < end; s++) {
                 int i = original[s];
-                sortedVelocities[s] = kickedVelocity(velocities[i], kicks->forces[i], kicks->halfStep*inverseMasses[i]);
+                sortedVelocities[s] = kickedVelocity(velocities[i], kicks->forces[i], kicks->before*inverseMasses[i]);
             }
         if (response != nullptr)
             for (int s = begin; s < end; s++)
@@ -401,13 +405,13 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             }
     };
     auto scatter = [&](int thread) {
-        if (kicks == nullptr) {
+        if (kicks == nullptr || kicks->after == 0.0) {
             grid.forEachLocatedParticle(thread, [&](int i, int s) { velocities[i] = sortedVelocities[s]; });
             return;
         }
         bool finite = true;
         grid.forEachLocatedParticle(thread, [&](int i, int s) {
-            velocities[i] = kickedVelocity(sortedVelocities[s], kicks->forces[i], kicks->halfStep*inverseMasses[i]);
+            velocities[i] = kickedVelocity(sortedVelocities[s], kicks->forces[i], kicks->after*inverseMasses[i]);
             finite &= isFiniteVelocity(velocities[i]);
         });
         if (!finite)
@@ -427,10 +431,11 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
     return sweepVelocities(sweep, CpuDPDPairUpdateBlock::OrnsteinUhlenbeck, velocities, response);
 }
 
-bool CpuDPDPairEngine::applyKickedOrnsteinUhlenbeck(const DPDPairSweep& sweep, const std::vector<Vec3>& forces, double halfStep,
-                                                    std::vector<Vec3>& velocities) {
-    FoldedKicks kicks{forces, halfStep};
-    sweepVelocities(sweep, CpuDPDPairUpdateBlock::OrnsteinUhlenbeck, velocities, nullptr, &kicks);
+bool CpuDPDPairEngine::applyKickedVelocitySweep(VelocitySweep kind, const DPDPairSweep& sweep, const std::vector<Vec3>& forces, double before,
+                                                double after, std::vector<Vec3>& velocities) {
+    FoldedKicks kicks{forces, before, after};
+    sweepVelocities(sweep, kind == ExactOrnsteinUhlenbeck ? CpuDPDPairUpdateBlock::OrnsteinUhlenbeck : CpuDPDPairUpdateBlock::BBK, velocities,
+                    nullptr, &kicks);
     return kicks.allFinite.load();
 }
 

@@ -86,14 +86,18 @@ public:
      */
     virtual double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
                                                   const std::vector<OpenMM::Vec3>* response) = 0;
+    /** The successive velocity sweeps. */
+    enum VelocitySweep { ExactOrnsteinUhlenbeck, ShardlowBBK };
     /**
-     * ABOBA's B O B (eqs. 2.20-2.23) in one call: a kick v += F (halfStep/m) by `forces`, the exact
-     * O sweep, a second such kick; returns whether every velocity is then finite.  The default does
-     * the three one after another; an engine may fold the kicks into its own passes over the
-     * velocities, with the same arithmetic (kickedVelocity), hence the same bits.
+     * A velocity sweep between two kicks by `forces`: v += F (before/m), the sweep, v += F (after/m)
+     * (a zero sub-step: no kick); returns whether every velocity is finite after the second kick (true
+     * without one).  ABOBA's B O B (eqs. 2.20-2.23) is the exact O sweep between two half kicks,
+     * DPD-S1's O B (eqs. 2.12-2.13a) the BBK sweep and a half kick.  The default does them one after
+     * another; an engine may fold the kicks into its own passes over the velocities, with the same
+     * arithmetic (kickedVelocity), hence the same bits.
      */
-    virtual bool applyKickedOrnsteinUhlenbeck(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& forces, double halfStep,
-                                              std::vector<OpenMM::Vec3>& velocities);
+    virtual bool applyKickedVelocitySweep(VelocitySweep kind, const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& forces,
+                                          double before, double after, std::vector<OpenMM::Vec3>& velocities);
     /** Shardlow's successive BBK sweep of DPD-S1 (eq. 2.12). */
     virtual void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) = 0;
     /** VV's dissipative and random pair forces F^D + F^R (eqs. 2.2b, 2.2c) at these velocities, added to `forces`. */
@@ -106,9 +110,12 @@ public:
      * default runs body(0, count).
      */
     virtual void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) { body(0, count); }
-    /** The B step, v += F (dt/m) (eq. 2.5b), on the platform's threads; returns whether every velocity is then finite. */
+    /**
+     * The B step, v += F (dt/m) (eq. 2.5b), on the platform's threads; returns whether every velocity
+     * is then finite.  With `keptForces`, also copies the forces there in the same pass.
+     */
     bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, const std::vector<double>& inverseMasses,
-              double dt);
+              double dt, std::vector<OpenMM::Vec3>* keptForces = nullptr);
     /** One particle's kick, the one formula of every kick: v + F dtOverMass, dtOverMass = dt/m (0 for a massless particle). */
     static OpenMM::Vec3 kickedVelocity(const OpenMM::Vec3& velocity, const OpenMM::Vec3& force, double dtOverMass) {
         return velocity + force*dtOverMass;

@@ -84,7 +84,10 @@ private:
     void moveImages(OpenMM::ContextImpl& context, double elapsed);
     /** The stress sums a sweep should gather into this step, or null when stress is not accumulated. */
     DPDPairStressSums* pairStressOfStep() { return accumulateStress ? &stepPairStress : nullptr; }
-    bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, double dt) const;
+    /** B(dt), on the engine's threads; with keepForces, also copies the forces to forceAtCurrentPositions in the same pass. */
+    bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, double dt, bool keepForces = false);
+    /** Keep a copy of the forces for the next step (VV, S1), on the engine's threads. */
+    void storeForces(const std::vector<OpenMM::Vec3>& forces);
     /** Evaluate the Context's forces at its current positions and return the engine holding the pairs at those positions. */
     DPDPairEngine& evaluateForcesAndPairs(OpenMM::ContextImpl& context);
     /** The parameters of the next pair sweep over a sub-step dt (each sweep draws new random numbers). */

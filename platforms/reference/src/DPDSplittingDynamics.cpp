@@ -216,8 +216,15 @@ void DPDSplittingDynamics::moveImages(OpenMM::ContextImpl& context, double elaps
         DPDLeesEdwardsFlow::wrapIntoPrimaryCell(state.positions, state.box);
 }
 
-bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt) const {
-    return ownEngine->kick(velocities, forces, inverseMasses, dt);
+bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt, bool keepForces) {
+    return ownEngine->kick(velocities, forces, inverseMasses, dt, keepForces ? &forceAtCurrentPositions : nullptr);
+}
+
+void DPDSplittingDynamics::storeForces(const std::vector<Vec3>& forces) {
+    forceAtCurrentPositions.resize(forces.size());
+    ownEngine->forEachParticleRange(static_cast<int>(forces.size()), [&](int begin, int end) {
+        std::copy(forces.begin()+begin, forces.begin()+end, forceAtCurrentPositions.begin()+begin);
+    });
 }
 
 DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context) {
@@ -302,7 +309,8 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     if (!nemd && !friction.allValuesZero) {
         // B(dt/2) O(dt) B(dt/2), eqs. 2.20-2.23, in one call: the engine may fold the kicks into the
         // sweep's own passes over the velocities.
-        if (!pairs.applyKickedOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.forces, 0.5*dt, state.velocities))
+        if (!pairs.applyKickedVelocitySweep(DPDPairEngine::ExactOrnsteinUhlenbeck, nextSweep(dt, pairStressOfStep()), state.forces, 0.5*dt,
+                                            0.5*dt, state.velocities))
             throwNonFinite(context, "velocities");
     }
     else {
@@ -376,17 +384,18 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
     ContextArrays state = arrays(context);
     if (!forceAtCurrentPositionsValid || pairsAtCurrentPositions == nullptr) {
         evaluateForcesAndPairs(context);
-        forceAtCurrentPositions = state.forces;
+        storeForces(state.forces);
     }
-    if (!friction.allValuesZero)
-        pairsAtCurrentPositions->applyPairwiseBBK(nextSweep(dt, pairStressOfStep()), state.velocities); // O(dt), eq. 2.12
-    kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // B(dt/2), eq. 2.13a
+    if (!friction.allValuesZero) // O(dt), eq. 2.12, and B(dt/2), eq. 2.13a, in one call (the drift checks what follows)
+        pairsAtCurrentPositions->applyKickedVelocitySweep(DPDPairEngine::ShardlowBBK, nextSweep(dt, pairStressOfStep()),
+                                                          forceAtCurrentPositions, 0.0, 0.5*dt, state.velocities);
+    else
+        kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                // B(dt/2), eq. 2.13a
     if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0) // A(dt), eq. 2.13b
         throwNonFinite(context, "positions", particle);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     evaluateForcesAndPairs(context);                                            // at q^{n+1}, reused next step
-    forceAtCurrentPositions = state.forces;
-    if (!kick(state.velocities, forceAtCurrentPositions, 0.5*dt))               // B(dt/2), eq. 2.13c
+    if (!kick(state.velocities, state.forces, 0.5*dt, true))                    // B(dt/2), eq. 2.13c; the forces kept
         throwNonFinite(context, "velocities");
 }
 
@@ -394,7 +403,7 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
     ContextArrays state = arrays(context);
     if (!forceAtCurrentPositionsValid) {
         DPDPairEngine& pairs = evaluateForcesAndPairs(context);
-        forceAtCurrentPositions = state.forces;
+        storeForces(state.forces);
         if (!friction.allValuesZero)
             pairs.addDissipativeAndRandomForces(nextSweep(dt), state.velocities, forceAtCurrentPositions);
     }
@@ -403,10 +412,9 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
         throwNonFinite(context, "positions", particle);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     DPDPairEngine& pairs = evaluateForcesAndPairs(context);
-    forceAtCurrentPositions = state.forces;
     if (!friction.allValuesZero)                                                // at (q^{n+1}, p^{n+1/2})
-        pairs.addDissipativeAndRandomForces(nextSweep(dt, pairStressOfStep()), state.velocities, forceAtCurrentPositions);
-    if (!kick(state.velocities, forceAtCurrentPositions, 0.5*dt))               // eq. 2.3c
+        pairs.addDissipativeAndRandomForces(nextSweep(dt, pairStressOfStep()), state.velocities, state.forces);
+    if (!kick(state.velocities, state.forces, 0.5*dt, true))                    // eq. 2.3c; F^C + F^D + F^R kept for the next step
         throwNonFinite(context, "velocities");
 }
 
