@@ -31,11 +31,11 @@ public:
         std::uint64_t current = shares[thread].bounds.load(std::memory_order_relaxed);
         return std::max(0, static_cast<int>(current >> 32)-static_cast<int>(current & 0xffffffffu));
     }
-    /** The front block of the thread's own share, or -1 when it is done. */
-    int takeOwn(int thread) { return takeFrom(shares[thread].bounds, true); }
-    /** The front block of the thread's own share, else the back block of another's, or -1 when every share is done. */
-    int take(int thread) {
-        int block = takeOwn(thread);
+    /** The front (or back) block of the thread's own share, or -1 when it is done. */
+    int takeOwn(int thread, bool front = true) { return takeFrom(shares[thread].bounds, front); }
+    /** The front (or back) block of the thread's own share, else the back block of another's, or -1 when every share is done. */
+    int take(int thread, bool front = true) {
+        int block = takeOwn(thread, front);
         for (int offset = 1; block < 0 && offset < numThreads; offset++)
             block = takeFrom(shares[(thread+offset)%numThreads].bounds, false);
         return block;
@@ -55,7 +55,7 @@ private:
             std::uint64_t taken = front ? pack(begin+1, end) : pack(begin, end-1);
             if (numThreads == 1) { // nobody else takes: no locked instruction
                 bounds.store(taken, std::memory_order_relaxed);
-                return begin;
+                return front ? begin : end-1;
             }
             if (bounds.compare_exchange_weak(current, taken, std::memory_order_acq_rel, std::memory_order_acquire))
                 return front ? begin : end-1;

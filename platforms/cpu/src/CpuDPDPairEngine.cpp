@@ -270,10 +270,18 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
         const int pairsPerRun = (numThreads == 1 ? 8192 : 2048)/numStreams;
         const int* cells = grid.cellsInSweepOrder.data();
         const int* blockStart = grid.blockStart.data();
-        int pending = -1; // a block taken that did not fit the run before
-        auto takeRun = [&](CpuDPDPairUpdateBlock& block) {
-            int first = pending >= 0 ? pending : blockQueue.take(thread);
-            pending = -1;
+        // Stream 0 takes the thread's own blocks from the front of its share, at most half of them
+        // (a quarter with several threads: the others, which take from its back, then finish with
+        // it); stream 1 takes as many pairs from the back, so the two streams stay even.  Blocks of
+        // other threads come from the back of their shares.
+        int pending[numStreams]; // a block taken that did not fit the stream's run before
+        std::fill(pending, pending+numStreams, -1);
+        auto takeRun = [&](int stream, CpuDPDPairUpdateBlock& block, int pairBudget) {
+            bool front = stream == 0;
+            int blocksLeft = blockQueue.ownLeft(thread)+(pending[stream] >= 0 ? 1 : 0);
+            int maxBlocks = !front ? std::numeric_limits<int>::max() : numThreads == 1 ? (blocksLeft+1)/2 : std::max(1, blocksLeft/4);
+            int first = pending[stream] >= 0 ? pending[stream] : blockQueue.take(thread, front);
+            pending[stream] = -1;
             PairRun run{0, 0, 0, 0, 0, &block};
             if (first < 0)
                 return run;
@@ -282,21 +290,23 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
             run.buffer = cellBuffer[cells[run.cellBegin]];
             run.pairBegin = cellPairBegin[cells[run.cellBegin]];
             run.pairEnd = cellPairEnd[cells[run.cellEnd-1]];
-            // Towards the end of its share a thread takes fewer blocks at a time, so that the others,
-            // which take from its back, finish with it.
-            int lastAllowed = numThreads == 1 ? std::numeric_limits<int>::max() : first+blockQueue.ownLeft(thread)/4;
-            for (int last = first; run.pairEnd-run.pairBegin < pairsPerRun && last < lastAllowed; last++) {
-                int next = blockQueue.takeOwn(thread);
+            for (int low = first, high = first; run.pairEnd-run.pairBegin < pairBudget && high-low+1 < maxBlocks;) {
+                int next = blockQueue.takeOwn(thread, front);
                 if (next < 0)
                     break;
                 int firstCell = cells[blockStart[next]], lastCell = cells[blockStart[next+1]-1];
-                if (next != last+1 || cellBuffer[firstCell] != run.buffer || cellPairBegin[firstCell] != run.pairEnd ||
-                    cellPairEnd[lastCell]-run.pairBegin > pairsPerRun) {
-                    pending = next;
+                bool adjacent = front ? next == high+1 && cellPairBegin[firstCell] == run.pairEnd
+                                      : next == low-1 && cellPairEnd[lastCell] == run.pairBegin;
+                int pairBegin = front ? run.pairBegin : cellPairBegin[firstCell], pairEnd = front ? cellPairEnd[lastCell] : run.pairEnd;
+                if (!adjacent || cellBuffer[firstCell] != run.buffer || pairEnd-pairBegin > pairsPerRun) {
+                    pending[stream] = next;
                     break;
                 }
-                run.cellEnd = blockStart[next+1];
-                run.pairEnd = cellPairEnd[lastCell];
+                (front ? high : low) = next;
+                run.cellBegin = blockStart[low];
+                run.cellEnd = blockStart[high+1];
+                run.pairBegin = pairBegin;
+                run.pairEnd = pairEnd;
             }
             const PairBuffer& pairs = buffers[run.buffer];
             block.compute(kind, sweep, particles, run.pairEnd-run.pairBegin, &pairs.i[run.pairBegin], &pairs.j[run.pairBegin]);
@@ -308,7 +318,8 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
                 PairRun runs[numStreams];
                 bool any = false;
                 for (int k = 0; k < numStreams; k++) {
-                    runs[k] = takeRun(blocks[numStreams*thread+k]);
+                    int budget = k > 0 && runs[0].pairEnd > runs[0].pairBegin ? runs[0].pairEnd-runs[0].pairBegin : pairsPerRun;
+                    runs[k] = takeRun(k, blocks[numStreams*thread+k], budget);
                     any |= runs[k].cellBegin < runs[k].cellEnd;
                 }
                 if (!any)
