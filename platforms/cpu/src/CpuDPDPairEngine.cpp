@@ -259,15 +259,12 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
         // Each thread takes blocks of a colour (its own share first, then what is left of the others',
         // CpuDPDBlockQueue) in runs of consecutive blocks whose pairs are consecutive in one search
         // buffer, up to about pairsPerRun pairs: the coefficients of a run are still in the cache when
-        // its cells are swept, and the block's arrays stay small.  With several threads the runs are
-        // shorter, so that the threads end a colour close together (N = 32 000, 2 threads: 40 % fewer
-        // samples in this task's waits; one thread is 2 % faster with the longer runs).  The
-        // coefficients do not depend on where the runs start (CpuDPDPairUpdateBlock), so neither do
-        // the bits.  A thread sweeps
+        // its cells are swept, and the block's arrays stay small.  The coefficients do not depend on
+        // where the runs start (CpuDPDPairUpdateBlock), so neither do the bits.  A thread sweeps
         // numStreams runs side by side: blocks of one colour share no particle, so their updates are
         // independent (the same sums in the same order as one after the other) and the processor
         // overlaps their dependency chains.
-        const int pairsPerRun = (numThreads == 1 ? 8192 : 2048)/numStreams;
+        const int pairsPerRun = 8192/numStreams;
         const int* cells = grid.cellsInSweepOrder.data();
         const int* blockStart = grid.blockStart.data();
         // Stream 0 takes the thread's own blocks from the front of its share, at most half of them
