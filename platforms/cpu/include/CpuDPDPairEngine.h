@@ -8,7 +8,6 @@
 #include "CpuDPDThreadBarrier.h"
 #include "CpuDPDThreadTeam.h"
 #include "DPDPairEngine.h"
-#include <atomic>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -44,9 +43,6 @@ public:
     double getRadius() const override { return radius; }
     double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
                                           const std::vector<OpenMM::Vec3>* response) override;
-    /** The kicks ride on the sweep's gather into sorted order and its scatter back (no passes of their own). */
-    bool applyKickedVelocitySweep(VelocitySweep kind, const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& forces, double before,
-                                  double after, std::vector<OpenMM::Vec3>& velocities) override;
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
@@ -106,18 +102,12 @@ private:
      */
     void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                       const RunTask& apply, const ScatterTask& scatter);
-    /** Kicks v += F (before/m) and v += F (after/m) around a velocity sweep, applied as it gathers and scatters the velocities (0: none). */
-    struct FoldedKicks {
-        const std::vector<OpenMM::Vec3>& forces;
-        double before, after;
-        std::atomic<bool> allFinite{true}; // after the second kick
-    };
     /**
      * The successive velocity sweep of O (exact OU) and S1 (BBK): Delta p = slope u + offset per pair.
      * With `response` (Norton), also returns G . Delta p^D summed cell by cell in sweep order.
      */
     double sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, std::vector<OpenMM::Vec3>& velocities,
-                           const std::vector<OpenMM::Vec3>* response, FoldedKicks* kicks = nullptr);
+                           const std::vector<OpenMM::Vec3>* response);
     /** The stress sums of one cell, cleared, when the sweep gathers stress; else null. */
     DPDPairStressSums* cellStressOf(const DPDPairSweep& sweep, int cell);
     static void addPairStress(DPDPairStressSums& sums, double r, const OpenMM::Vec3& e, double dissipative, double random);

@@ -348,21 +348,14 @@ void CpuDPDPairEngine::sumCellStress(const DPDPairSweep& sweep) {
 }
 
 double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, std::vector<Vec3>& velocities,
-                                         const std::vector<Vec3>* response, FoldedKicks* kicks) {
+                                         const std::vector<Vec3>* response) {
     const std::vector<int>& original = grid.sortedToOriginal;
-    const double* inverseMasses = sweep.inverseMasses.data();
     sortedVelocities.resize(original.size());
     if (response != nullptr)
         sortedResponse.resize(original.size());
     auto gather = [&](int begin, int end) {
-        if (kicks == nullptr || kicks->before == 0.0)
-            for (int s = begin; s < end; s++)
-                sortedVelocities[s] = velocities[original[s]];
-        else
-            for (int s = begin; s < end; s++) {
-                int i = original[s];
-                sortedVelocities[s] = kickedVelocity(velocities[i], kicks->forces[i], kicks->before*inverseMasses[i]);
-            }
+        for (int s = begin; s < end; s++)
+            sortedVelocities[s] = velocities[original[s]];
         if (response != nullptr)
             for (int s = begin; s < end; s++)
                 sortedResponse[s] = (*response)[original[s]];
@@ -412,19 +405,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
                     sweepCell(std::false_type(), pairs, cell, cellPairBegin[cell], cellPairEnd[cell], *runs[run].block, runs[run].pairBegin);
             }
     };
-    auto scatter = [&](int thread) {
-        if (kicks == nullptr || kicks->after == 0.0) {
-            grid.forEachLocatedParticle(thread, [&](int i, int s) { velocities[i] = sortedVelocities[s]; });
-            return;
-        }
-        bool finite = true;
-        grid.forEachLocatedParticle(thread, [&](int i, int s) {
-            velocities[i] = kickedVelocity(sortedVelocities[s], kicks->forces[i], kicks->after*inverseMasses[i]);
-            finite &= isFiniteVelocity(velocities[i]);
-        });
-        if (!finite)
-            kicks->allFinite.store(false);
-    };
+    auto scatter = [&](int thread) { grid.forEachLocatedParticle(thread, [&](int i, int s) { velocities[i] = sortedVelocities[s]; }); };
     sweepByColor(sweep, kind, gather, apply, scatter);
     sumCellStress(sweep);
     double responseOfDissipation = 0.0;
@@ -437,14 +418,6 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
 double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<Vec3>& velocities,
                                                         const std::vector<Vec3>* response) {
     return sweepVelocities(sweep, CpuDPDPairUpdateBlock::OrnsteinUhlenbeck, velocities, response);
-}
-
-bool CpuDPDPairEngine::applyKickedVelocitySweep(VelocitySweep kind, const DPDPairSweep& sweep, const std::vector<Vec3>& forces, double before,
-                                                double after, std::vector<Vec3>& velocities) {
-    FoldedKicks kicks{forces, before, after};
-    sweepVelocities(sweep, kind == ExactOrnsteinUhlenbeck ? CpuDPDPairUpdateBlock::OrnsteinUhlenbeck : CpuDPDPairUpdateBlock::BBK, velocities,
-                    nullptr, &kicks);
-    return kicks.allFinite.load();
 }
 
 void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<Vec3>& velocities) {

@@ -86,18 +86,6 @@ public:
      */
     virtual double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
                                                   const std::vector<OpenMM::Vec3>* response) = 0;
-    /** The successive velocity sweeps. */
-    enum VelocitySweep { ExactOrnsteinUhlenbeck, ShardlowBBK };
-    /**
-     * A velocity sweep between two kicks by `forces`: v += F (before/m), the sweep, v += F (after/m)
-     * (a zero sub-step: no kick); returns whether every velocity is finite after the second kick (true
-     * without one).  ABOBA's B O B (eqs. 2.20-2.23) is the exact O sweep between two half kicks,
-     * DPD-S1's O B (eqs. 2.12-2.13a) the BBK sweep and a half kick.  The default does them one after
-     * another; an engine may fold the kicks into its own passes over the velocities, with the same
-     * arithmetic (kickedVelocity), hence the same bits.
-     */
-    virtual bool applyKickedVelocitySweep(VelocitySweep kind, const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& forces,
-                                          double before, double after, std::vector<OpenMM::Vec3>& velocities);
     /** Shardlow's successive BBK sweep of DPD-S1 (eq. 2.12). */
     virtual void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) = 0;
     /** VV's dissipative and random pair forces F^D + F^R (eqs. 2.2b, 2.2c) at these velocities, added to `forces`. */
@@ -116,12 +104,6 @@ public:
      */
     bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, const std::vector<double>& inverseMasses,
               double dt, std::vector<OpenMM::Vec3>* keptForces = nullptr);
-    /** One particle's kick, the one formula of every kick: v + F dtOverMass, dtOverMass = dt/m (0 for a massless particle). */
-    static OpenMM::Vec3 kickedVelocity(const OpenMM::Vec3& velocity, const OpenMM::Vec3& force, double dtOverMass) {
-        return velocity + force*dtOverMass;
-    }
-    /** v . v is finite: false for a NaN or infinite component, and for a velocity too large to square. */
-    static bool isFiniteVelocity(const OpenMM::Vec3& velocity) { return velocity.dot(velocity) <= std::numeric_limits<double>::max(); }
 };
 
 /** How a platform makes its engines (one for a DPDForce kernel, one for an integrator's own pairs). */

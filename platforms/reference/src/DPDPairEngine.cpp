@@ -1,6 +1,6 @@
 #include "DPDPairEngine.h"
-#include <algorithm>
 #include <atomic>
+#include <limits>
 
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
@@ -10,27 +10,17 @@ bool DPDPairEngine::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>&
     std::atomic<bool> allFinite{true};
     if (keptForces != nullptr)
         keptForces->resize(forces.size());
+    Vec3* kept = keptForces != nullptr ? keptForces->data() : nullptr;
     forEachParticleRange(static_cast<int>(velocities.size()), [&](int begin, int end) {
-        if (keptForces != nullptr)
-            std::copy(forces.begin()+begin, forces.begin()+end, keptForces->begin()+begin);
         bool finite = true;
         for (int i = begin; i < end; i++) {
-            velocities[i] = kickedVelocity(velocities[i], forces[i], dt*inverseMasses[i]);
-            finite &= isFiniteVelocity(velocities[i]);
+            if (kept != nullptr)
+                kept[i] = forces[i];
+            velocities[i] += forces[i]*(dt*inverseMasses[i]);
+            finite &= velocities[i].dot(velocities[i]) <= std::numeric_limits<double>::max(); // false for NaN and infinities
         }
         if (!finite)
             allFinite.store(false);
     });
     return allFinite.load();
-}
-
-bool DPDPairEngine::applyKickedVelocitySweep(VelocitySweep kind, const DPDPairSweep& sweep, const std::vector<Vec3>& forces, double before,
-                                             double after, std::vector<Vec3>& velocities) {
-    if (before != 0.0)
-        kick(velocities, forces, sweep.inverseMasses, before);
-    if (kind == ExactOrnsteinUhlenbeck)
-        applyPairwiseOrnsteinUhlenbeck(sweep, velocities, nullptr);
-    else
-        applyPairwiseBBK(sweep, velocities);
-    return after == 0.0 || kick(velocities, forces, sweep.inverseMasses, after);
 }

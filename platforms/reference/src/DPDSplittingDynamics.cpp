@@ -306,24 +306,15 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     double eta = integrator.getForcingStrength();
     if (nemd)
         evaluateForcingFields(integrator, state.positions, state.box);          // F(q^{n+1/2}) of eq. 6
-    if (!nemd && !friction.allValuesZero) {
-        // B(dt/2) O(dt) B(dt/2), eqs. 2.20-2.23, in one call: the engine may fold the kicks into the
-        // sweep's own passes over the velocities.
-        if (!pairs.applyKickedVelocitySweep(DPDPairEngine::ExactOrnsteinUhlenbeck, nextSweep(dt, pairStressOfStep()), state.forces, 0.5*dt,
-                                            0.5*dt, state.velocities))
-            throwNonFinite(context, "velocities");
-    }
-    else {
-        kick(state.velocities, state.forces, 0.5*dt);                           // B(dt/2), eq. 2.20
-        if (nemd)
-            applyForcingImpulse(0.5*dt*eta, state.velocities);                  // + eta F dt/2 (NEMD's B, eq. 17)
-        if (!friction.allValuesZero)
-            pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
-        if (!kick(state.velocities, state.forces, 0.5*dt))                      // B(dt/2), eq. 2.23
-            throwNonFinite(context, "velocities");
-        if (nemd)
-            applyForcingImpulse(0.5*dt*eta, state.velocities);
-    }
+    kick(state.velocities, state.forces, 0.5*dt);                               // B(dt/2), eq. 2.20
+    if (nemd)
+        applyForcingImpulse(0.5*dt*eta, state.velocities);                      // + eta F dt/2 (NEMD's B, eq. 17)
+    if (!friction.allValuesZero)
+        pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
+    if (!kick(state.velocities, state.forces, 0.5*dt))                          // B(dt/2), eq. 2.23
+        throwNonFinite(context, "velocities");
+    if (nemd)
+        applyForcingImpulse(0.5*dt*eta, state.velocities);
     if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.24
         throwNonFinite(context, "positions", particle);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
@@ -386,11 +377,9 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
         evaluateForcesAndPairs(context);
         storeForces(state.forces);
     }
-    if (!friction.allValuesZero) // O(dt), eq. 2.12, and B(dt/2), eq. 2.13a, in one call (the drift checks what follows)
-        pairsAtCurrentPositions->applyKickedVelocitySweep(DPDPairEngine::ShardlowBBK, nextSweep(dt, pairStressOfStep()),
-                                                          forceAtCurrentPositions, 0.0, 0.5*dt, state.velocities);
-    else
-        kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                // B(dt/2), eq. 2.13a
+    if (!friction.allValuesZero)
+        pairsAtCurrentPositions->applyPairwiseBBK(nextSweep(dt, pairStressOfStep()), state.velocities); // O(dt), eq. 2.12
+    kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // B(dt/2), eq. 2.13a
     if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0) // A(dt), eq. 2.13b
         throwNonFinite(context, "positions", particle);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
