@@ -98,6 +98,11 @@ public:
      * default runs body(0, count).
      */
     virtual void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) { body(0, count); }
+    /** One particle's B step, v += F dtOverMass (dtOverMass = dt/m, 0 for a massless particle); returns whether v is then finite. */
+    static bool kickVelocity(OpenMM::Vec3& velocity, const OpenMM::Vec3& force, double dtOverMass) {
+        velocity += force*dtOverMass;
+        return velocity.dot(velocity) <= std::numeric_limits<double>::max(); // false for NaN and infinities
+    }
     /**
      * The B step, v += F (dt/m) (eq. 2.5b), on the platform's threads; returns whether every velocity
      * is then finite.  With `keptForces`, also copies the forces there in the same pass.

@@ -9,6 +9,7 @@
 #include "openmm/internal/ContextImpl.h"
 #include "openmmdpd/DPDIntegrator.h"
 #include "openmmdpd/DPDTypePairTable.h"
+#include <atomic>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -66,13 +67,19 @@ private:
     void stepS1(OpenMM::ContextImpl& context, double dt);
     void stepVV(OpenMM::ContextImpl& context, double dt);
 
+    /** A kick B(dt) that drift() applies first, particle by particle in its own pass (one pass instead of two). */
+    struct KickFirst {
+        const std::vector<OpenMM::Vec3>& forces;
+        double dt;
+        std::atomic<bool> velocitiesFinite{true}; // after the kick
+    };
     /**
-     * q += dt v (sheared: DPDLeesEdwardsFlow::drift); returns the index of the first particle whose
-     * position became non-finite or that moved more than half the box, or -1 if every particle is
-     * sound.  Virtual sites follow their parents.
+     * q += dt v (sheared: DPDLeesEdwardsFlow::drift), after `kick` if given; returns the index of the
+     * first particle whose position became non-finite or that moved more than half the box, or -1 if
+     * every particle is sound.  Virtual sites follow their parents.
      */
     int drift(OpenMM::ContextImpl& context, std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities,
-              double dt) const;
+              double dt, KickFirst* kick = nullptr);
     /** Apply changes made to the integrator's friction table since the last step (validated here). */
     void applyFrictionTableChanges(OpenMM::ContextImpl& context, const DPDIntegrator& integrator);
     /** Throw, naming the particle, if a position or velocity set from outside is not finite. */

@@ -1,6 +1,5 @@
 #include "DPDPairEngine.h"
 #include <atomic>
-#include <limits>
 
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
@@ -16,8 +15,7 @@ bool DPDPairEngine::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>&
         for (int i = begin; i < end; i++) {
             if (kept != nullptr)
                 kept[i] = forces[i];
-            velocities[i] += forces[i]*(dt*inverseMasses[i]);
-            finite &= velocities[i].dot(velocities[i]) <= std::numeric_limits<double>::max(); // false for NaN and infinities
+            finite &= kickVelocity(velocities[i], forces[i], dt*inverseMasses[i]);
         }
         if (!finite)
             allFinite.store(false);

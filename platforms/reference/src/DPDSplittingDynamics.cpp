@@ -129,7 +129,12 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
 }
 
 int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>& positions, std::vector<Vec3>& velocities,
-                                double dt) const {
+                                double dt, KickFirst* kick) {
+    if (kick != nullptr && leesEdwards.isSheared()) { // the sheared drift is a pass of its own
+        if (!this->kick(velocities, kick->forces, kick->dt))
+            kick->velocitiesFinite.store(false);
+        kick = nullptr;
+    }
     if (leesEdwards.isSheared()) {
         int unsound = leesEdwards.drift(positions, velocities, inverseMasses, dt, maxDisplacementPerDrift);
         if (!virtualSites.empty())
@@ -148,12 +153,22 @@ int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>&
         auto isSound = [&](const Vec3& displacement, const Vec3& position) {
             return (displacement.dot(displacement) <= limit2) & (position.dot(position) <= std::numeric_limits<double>::max());
         };
-        bool allSound = true;
-        for (int i = begin; i < end; i++) {
-            Vec3 displacement = displacementOf(i);
-            positions[i] += displacement;
-            allSound &= isSound(displacement, positions[i]);
-        }
+        bool allSound = true, allFinite = true;
+        if (kick != nullptr)
+            for (int i = begin; i < end; i++) {
+                allFinite &= DPDPairEngine::kickVelocity(velocities[i], kick->forces[i], kick->dt*inverseMasses[i]);
+                Vec3 displacement = displacementOf(i);
+                positions[i] += displacement;
+                allSound &= isSound(displacement, positions[i]);
+            }
+        else
+            for (int i = begin; i < end; i++) {
+                Vec3 displacement = displacementOf(i);
+                positions[i] += displacement;
+                allSound &= isSound(displacement, positions[i]);
+            }
+        if (!allFinite)
+            kick->velocitiesFinite.store(false);
         int firstOfRange = -1;
         for (int i = begin; i < end && !allSound && firstOfRange < 0; i++)
             if (!isSound(displacementOf(i), positions[i]))
@@ -311,12 +326,17 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
         applyForcingImpulse(0.5*dt*eta, state.velocities);                      // + eta F dt/2 (NEMD's B, eq. 17)
     if (!friction.allValuesZero)
         pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
-    if (!kick(state.velocities, state.forces, 0.5*dt))                          // B(dt/2), eq. 2.23
-        throwNonFinite(context, "velocities");
-    if (nemd)
+    KickFirst lastKick{state.forces, 0.5*dt};                                   // B(dt/2), eq. 2.23
+    if (nemd) {
+        if (!kick(state.velocities, state.forces, 0.5*dt))
+            lastKick.velocitiesFinite.store(false);
         applyForcingImpulse(0.5*dt*eta, state.velocities);
-    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.24
-        throwNonFinite(context, "positions", particle);
+    }
+    int unsound = drift(context, state.positions, state.velocities, 0.5*dt, nemd ? nullptr : &lastKick); // A(dt/2), eq. 2.24
+    if (!lastKick.velocitiesFinite.load())
+        throwNonFinite(context, "velocities");
+    if (unsound >= 0)
+        throwNonFinite(context, "positions", unsound);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     if (nemd) {
         evaluateForcingFields(integrator, state.positions, state.box);          // G(q^{n+1})
@@ -379,8 +399,8 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
     }
     if (!friction.allValuesZero)
         pairsAtCurrentPositions->applyPairwiseBBK(nextSweep(dt, pairStressOfStep()), state.velocities); // O(dt), eq. 2.12
-    kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // B(dt/2), eq. 2.13a
-    if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0) // A(dt), eq. 2.13b
+    KickFirst halfKick{forceAtCurrentPositions, 0.5*dt};                        // B(dt/2), eq. 2.13a, in the drift's pass
+    if (int particle = drift(context, state.positions, state.velocities, dt, &halfKick); particle >= 0) // A(dt), eq. 2.13b
         throwNonFinite(context, "positions", particle);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     evaluateForcesAndPairs(context);                                            // at q^{n+1}, reused next step
@@ -396,8 +416,8 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
         if (!friction.allValuesZero)
             pairs.addDissipativeAndRandomForces(nextSweep(dt), state.velocities, forceAtCurrentPositions);
     }
-    kick(state.velocities, forceAtCurrentPositions, 0.5*dt);                    // eq. 2.3a, with the stored forces
-    if (int particle = drift(context, state.positions, state.velocities, dt); particle >= 0) // eq. 2.3b
+    KickFirst halfKick{forceAtCurrentPositions, 0.5*dt};                        // eq. 2.3a, with the stored forces, in the drift's pass
+    if (int particle = drift(context, state.positions, state.velocities, dt, &halfKick); particle >= 0) // eq. 2.3b
         throwNonFinite(context, "positions", particle);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     DPDPairEngine& pairs = evaluateForcesAndPairs(context);
