@@ -7,6 +7,7 @@
 //    below about 8 cells per thread and colour the engine keeps one thread);
 //  - a non-finite position is refused with the particle's index, never binned.
 
+#include "CpuDPDBlockQueue.h"
 #include "CpuDPDCellGrid.h"
 #include "CpuDPDThreadTeam.h"
 #include "DPDTestSupport.h"
@@ -144,6 +145,46 @@ TEST(CpuPairEngine, ThreadTeamRunsEveryThreadOncePerTaskAndPassesExceptionsOn) {
     std::atomic<int> after{0};
     team->run([&](int) { after++; });
     EXPECT_EQ(after.load(), 4);
+}
+
+TEST(CpuPairEngine, BlockQueueHandsOutEveryBlockOnceWhateverTheRace) {
+    // Four threads own uneven shares of 4 000 blocks; each takes its own from the front or the back
+    // (alternately, as the sweep's two streams do), then takes from the others' backs.  However the
+    // threads interleave, every block is taken exactly once, a thread's own front takes come in
+    // increasing order and its own back takes in decreasing order, and afterwards nothing is left.
+    auto team = CpuDPDThreadTeam::shared(4);
+    const int numBlocks = 4000, shareEnd[5] = {0, 100, 1900, 2000, numBlocks};
+    CpuDPDBlockQueue queue;
+    queue.setNumThreads(4);
+    for (int round = 0; round < 20; round++) {
+        std::vector<std::atomic<int>> taken(numBlocks);
+        std::vector<int> orderErrors(4, 0), ownTaken(4, 0);
+        team->run([&](int thread) {
+            queue.share(thread, shareEnd[thread], shareEnd[thread+1]);
+            int lastFront = -1, lastBack = numBlocks;
+            for (int k = 0;; k++) {
+                bool front = k%2 == 0;
+                int block = queue.take(thread, front);
+                if (block < 0)
+                    break;
+                taken[block]++;
+                bool own = block >= shareEnd[thread] && block < shareEnd[thread+1];
+                if (own && front)
+                    orderErrors[thread] += block <= lastFront, lastFront = block;
+                if (own && !front)
+                    orderErrors[thread] += block >= lastBack, lastBack = block;
+                ownTaken[thread] += own;
+            }
+            EXPECT_EQ(queue.ownLeft(thread), 0);
+        });
+        for (int block = 0; block < numBlocks; block++)
+            ASSERT_EQ(taken[block].load(), 1) << "block " << block << " in round " << round;
+        for (int thread = 0; thread < 4; thread++)
+            EXPECT_EQ(orderErrors[thread], 0) << "thread " << thread;
+        EXPECT_GT(ownTaken[0], 0);
+        for (int thread = 0; thread < 4; thread++)
+            EXPECT_EQ(queue.take(thread), -1);
+    }
 }
 
 TEST(CpuPairEngine, ExactPairsInStronglyTiltedBoxes) {
