@@ -2,6 +2,7 @@
 #define OPENMMDPD_DPDTESTSUPPORT_H_
 
 #include "openmm/Context.h"
+#include "openmm/CustomNonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
 #include "openmm/State.h"
@@ -76,6 +77,26 @@ inline SoftFluid makeSoftFluid(int numParticles, double density, unsigned seed =
     if (withForce)
         fluid.system->addForce(new OpenMMDPD::DPDForce(25.0, 1.0));
     return fluid;
+}
+
+/**
+ * The same particles and box as `system` with a pair potential `energy` (a function of r) as its only
+ * force: a CustomNonbondedForce with a periodic cutoff of 1 nm (add global parameters to getForce(0)).
+ */
+inline std::unique_ptr<OpenMM::System> withCustomPairForce(const OpenMM::System& system, const std::string& energy) {
+    auto copy = std::make_unique<OpenMM::System>();
+    OpenMM::Vec3 box[3];
+    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    copy->setDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    auto* force = new OpenMM::CustomNonbondedForce(energy);
+    force->setNonbondedMethod(OpenMM::CustomNonbondedForce::CutoffPeriodic);
+    force->setCutoffDistance(1.0);
+    for (int i = 0; i < system.getNumParticles(); i++) {
+        copy->addParticle(system.getParticleMass(i));
+        force->addParticle({});
+    }
+    copy->addForce(force);
+    return copy;
 }
 
 /** A Context on the named platform, positions set and Maxwell velocities at kT = 1 drawn with a fixed seed. */

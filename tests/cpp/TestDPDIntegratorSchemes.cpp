@@ -260,20 +260,9 @@ TEST_P(EveryScheme, ZeroFrictionEnergyErrorIsSecondOrderForASmoothPotential) {
     double coarseSquares = 0.0, fineSquares = 0.0;
     for (unsigned seed = 1; seed <= 4; seed++) {
         EquilibratedFluid start = equilibratedSoftFluid(200, 3.0, 300, seed);
-        System smooth;
-        Vec3 box[3];
-        start.fluid.system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-        smooth.setDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-        auto* force = new CustomNonbondedForce("25/3*(1-r)^3");
-        force->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
-        force->setCutoffDistance(1.0);
-        for (int i = 0; i < 200; i++) {
-            smooth.addParticle(1.0);
-            force->addParticle({});
-        }
-        smooth.addForce(force);
-        EnergyError coarse = energyError(smooth, start, GetParam(), "Reference", 0.025, 10.0);
-        EnergyError fine = energyError(smooth, start, GetParam(), "Reference", 0.0125, 10.0);
+        std::unique_ptr<System> smooth = withCustomPairForce(*start.fluid.system, "25/3*(1-r)^3");
+        EnergyError coarse = energyError(*smooth, start, GetParam(), "Reference", 0.025, 10.0);
+        EnergyError fine = energyError(*smooth, start, GetParam(), "Reference", 0.0125, 10.0);
         coarseSquares += coarse.rms*coarse.rms;
         fineSquares += fine.rms*fine.rms;
         EXPECT_LT(coarse.largest, 2e-3*coarse.initial) << "start " << seed;

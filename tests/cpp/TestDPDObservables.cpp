@@ -90,21 +90,11 @@ TEST(DPDObservables, CustomNonbondedCopyOfTheSoftForceGivesTheSameObservables) {
     VerletIntegrator integrator1(0.001), integrator2(0.001);
     Context dpdContext(*fluid.system, integrator1, platform("Reference"));
     dpdContext.setPositions(fluid.positions);
-    System customSystem;
-    Vec3 a, b, c;
-    fluid.system->getDefaultPeriodicBoxVectors(a, b, c);
-    customSystem.setDefaultPeriodicBoxVectors(a, b, c);
-    auto* custom = new CustomNonbondedForce("0.5*amp*rc*(1-r/rc)^2");
-    custom->addGlobalParameter("amp", 25.0);
-    custom->addGlobalParameter("rc", 1.0);
-    custom->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
-    custom->setCutoffDistance(1.0);
-    for (int i = 0; i < 200; i++) {
-        customSystem.addParticle(1.0);
-        custom->addParticle({});
-    }
-    customSystem.addForce(custom);
-    Context customContext(customSystem, integrator2, platform("Reference"));
+    std::unique_ptr<System> customSystem = withCustomPairForce(*fluid.system, "0.5*amp*rc*(1-r/rc)^2");
+    auto& custom = dynamic_cast<CustomNonbondedForce&>(customSystem->getForce(0));
+    custom.addGlobalParameter("amp", 25.0);
+    custom.addGlobalParameter("rc", 1.0);
+    Context customContext(*customSystem, integrator2, platform("Reference"));
     customContext.setPositions(fluid.positions);
     DPDObservables::ConfigurationalSums expected = DPDObservables::configurationalSums(dpdContext);
     DPDObservables::ConfigurationalSums actual = DPDObservables::configurationalSums(customContext);

@@ -21,26 +21,9 @@ using namespace OpenMMDPDTest;
 
 namespace {
 
-/** The DPD potential U = a rc/2 (1 - r/rc)^2 (a = 25, rc = 1) as a CustomNonbondedForce. */
-CustomNonbondedForce* customDPDForce(int numParticles) {
-    auto* force = new CustomNonbondedForce("0.5*25*(1-r)^2");
-    force->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
-    force->setCutoffDistance(1.0);
-    for (int i = 0; i < numParticles; i++)
-        force->addParticle({});
-    return force;
-}
-
-/** The same particles and box with the CustomNonbondedForce instead of the DPDForce. */
+/** The same particles and box with the DPD potential U = a rc/2 (1 - r/rc)^2 (a = 25, rc = 1) as a CustomNonbondedForce instead of the DPDForce. */
 std::unique_ptr<System> withCustomForce(const System& system) {
-    auto copy = std::make_unique<System>();
-    Vec3 box[3];
-    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-    copy->setDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-    for (int i = 0; i < system.getNumParticles(); i++)
-        copy->addParticle(system.getParticleMass(i));
-    copy->addForce(customDPDForce(system.getNumParticles()));
-    return copy;
+    return withCustomPairForce(system, "0.5*25*(1-r)^2");
 }
 
 /**

@@ -16,6 +16,7 @@
 #include <ostream>
 #include <random>
 #include <sstream>
+#include <type_traits>
 
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
@@ -154,19 +155,19 @@ int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>&
             return (displacement.dot(displacement) <= limit2) & (position.dot(position) <= std::numeric_limits<double>::max());
         };
         bool allSound = true, allFinite = true;
+        auto pass = [&](auto withKick) { // one loop, compiled with and without the kick
+            for (int i = begin; i < end; i++) {
+                if constexpr (decltype(withKick)::value)
+                    allFinite &= DPDPairEngine::kickVelocity(velocities[i], kick->forces[i], kick->dt*inverseMasses[i]);
+                Vec3 displacement = displacementOf(i);
+                positions[i] += displacement;
+                allSound &= isSound(displacement, positions[i]);
+            }
+        };
         if (kick != nullptr)
-            for (int i = begin; i < end; i++) {
-                allFinite &= DPDPairEngine::kickVelocity(velocities[i], kick->forces[i], kick->dt*inverseMasses[i]);
-                Vec3 displacement = displacementOf(i);
-                positions[i] += displacement;
-                allSound &= isSound(displacement, positions[i]);
-            }
+            pass(std::true_type());
         else
-            for (int i = begin; i < end; i++) {
-                Vec3 displacement = displacementOf(i);
-                positions[i] += displacement;
-                allSound &= isSound(displacement, positions[i]);
-            }
+            pass(std::false_type());
         if (!allFinite)
             kick->velocitiesFinite.store(false);
         int firstOfRange = -1;
