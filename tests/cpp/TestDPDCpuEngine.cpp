@@ -4,7 +4,8 @@
 //    along an axis, tilted boxes, a cutoff tiny against the box), checked against a direct sum;
 //  - trajectories do not depend on the number of threads, bit for bit, for every scheme, with the
 //    DPDForce's pairs and with the integrator's own pairs, and for Norton dynamics (32 000 particles;
-//    below about 8 cells per thread and colour the engine keeps one thread);
+//    below about 8 cells per thread and colour the engine keeps one thread), and in a box whose
+//    colours hold one block each (500 particles), where the search and sweep share work differently;
 //  - a non-finite position is refused with the particle's index, never binned.
 
 #include "CpuDPDBlockQueue.h"
@@ -220,6 +221,63 @@ TEST(CpuPairEngine, TrajectoriesAreBitIdenticalForOneTwoAndSixteenThreads) {
         EXPECT_TRUE(bitIdentical(result[0], result[2])) << scheme << ": 1 and 16 threads";
         EXPECT_GT(maxAbsDifference(result[0].positions, start.fluid.positions), 0.05) << scheme;
     }
+}
+
+TEST(CpuPairEngine, SmallBoxesAreBitIdenticalForOneTwoAndSixteenThreads) {
+    // 500 particles: 5 cells per axis, 2 blocks per axis, so every colour is one block.  The engine
+    // then searches in two parts with a force array each and sweeps on one thread while another
+    // computes coefficients ahead (CpuDPDSweepPipeline).  The parts depend on the grid, the pieces
+    // are swept in sweep order: the same bits for any thread count, for every scheme, and with the
+    // per-cell sweep (Lees-Edwards shear, stress, two friction types, Norton).
+    EquilibratedFluid start = equilibratedSoftFluid(500, 3.0, 10);
+    Vec3 box[3];
+    start.fluid.system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    CpuDPDCellGrid grid;
+    grid.prepare(500, box, 1.0);
+    ASSERT_EQ(grid.getNumBlocks(), grid.getNumColors());
+    const int threads[3] = {1, 2, 16};
+    for (const std::string& scheme : allSchemes) {
+        Snapshot result[3];
+        for (int k = 0; k < 3; k++) {
+            DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
+            integrator.setRandomNumberSeed(5);
+            result[k] = runWithThreads(*start.fluid.system, integrator, start, threads[k], 20);
+        }
+        EXPECT_TRUE(bitIdentical(result[0], result[1])) << scheme << ": 1 and 2 threads";
+        EXPECT_TRUE(bitIdentical(result[0], result[2])) << scheme << ": 1 and 16 threads";
+        EXPECT_GT(maxAbsDifference(result[0].positions, start.fluid.positions), 0.05) << scheme;
+    }
+    Snapshot sheared[2], norton[2];
+    double stress[2], forcing[2];
+    for (int k = 0; k < 2; k++) {
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, "ABOBA");
+        integrator.setRandomNumberSeed(3);
+        integrator.setLeesEdwards(0.2);
+        integrator.setStressAccumulation(true);
+        for (int i = 0; i < 100; i++)
+            integrator.setParticleType(i, 1);
+        integrator.addTypePair(0, 1, 9.0, 1.0);
+        Context shearContext(*start.fluid.system, integrator, platform("CPU"), {{"Threads", std::to_string(threads[k])}});
+        shearContext.setPositions(start.fluid.positions);
+        shearContext.setVelocities(start.velocities);
+        integrator.step(20);
+        sheared[k] = snapshot(shearContext);
+        stress[k] = integrator.getStressStatistics().dissipative[1];
+        DPDIntegrator nortonIntegrator(reducedTemperature, 4.5, 1.0, 0.04, "ABOBA");
+        nortonIntegrator.setRandomNumberSeed(3);
+        nortonIntegrator.setNorton(DPDShearProfile(DPDShearProfile::Sinusoidal), 0.1);
+        Context context(*start.fluid.system, nortonIntegrator, platform("CPU"), {{"Threads", std::to_string(threads[k])}});
+        context.setPositions(start.fluid.positions);
+        context.setVelocities(start.velocities);
+        nortonIntegrator.step(20);
+        norton[k] = snapshot(context);
+        forcing[k] = nortonIntegrator.getTransportStatistics().forcingSum;
+    }
+    EXPECT_TRUE(bitIdentical(sheared[0], sheared[1]));
+    EXPECT_EQ(stress[0], stress[1]);
+    EXPECT_NE(stress[0], 0.0);
+    EXPECT_TRUE(bitIdentical(norton[0], norton[1]));
+    EXPECT_EQ(forcing[0], forcing[1]);
 }
 
 TEST(CpuPairEngine, OwnPairsAndNortonAreBitIdenticalAcrossThreadCounts) {

@@ -31,6 +31,12 @@ public:
         std::uint64_t current = shares[thread].bounds.load(std::memory_order_relaxed);
         return std::max(0, static_cast<int>(current >> 32)-static_cast<int>(current & 0xffffffffu));
     }
+    /** The block at the front of the thread's own share, or -1 when it is done; takes nothing. */
+    int ownFront(int thread) const {
+        std::uint64_t current = shares[thread].bounds.load(std::memory_order_acquire);
+        int begin = static_cast<int>(current & 0xffffffffu), end = static_cast<int>(current >> 32);
+        return begin < end ? begin : -1;
+    }
     /** The front (or back) block of the thread's own share, or -1 when it is done. */
     int takeOwn(int thread, bool front = true) { return takeFrom(shares[thread].bounds, front); }
     /** The front (or back) block of the thread's own share, else the back block of another's, or -1 when every share is done. */

@@ -90,6 +90,7 @@ public:
     const OpenMM::Vec3* getBoxVectors() const { return boxVectors; }
     int getNumCells() const { return cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2]; }
     int getNumColors() const { return static_cast<int>(colorStart.size())-1; }
+    int getNumBlocks() const { return static_cast<int>(blockStart.size())-1; }
     /** The half stencil of a cell: first the cell itself (shift 0), then 13 neighbours. */
     void getHalfStencil(int cell, Neighbor stencil[halfStencilSize]) const;
 

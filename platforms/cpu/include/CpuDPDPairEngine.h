@@ -3,6 +3,7 @@
 
 #include "CpuDPDBlockQueue.h"
 #include "CpuDPDCellGrid.h"
+#include "CpuDPDSweepPipeline.h"
 #include "CpuDPDPairUpdateBlock.h"
 #include "CpuDPDSuccessiveSweep.h"
 #include "CpuDPDThreadBarrier.h"
@@ -75,7 +76,11 @@ private:
     void onThreads(const std::function<void(int)>& body);
     /** Give a thread its share of a colour's blocks in blockQueue: about 1/numThreads of the colour's cells. */
     void shareBlocksOfColor(int color, int thread);
-    void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates);
+    /** Find the pairs of a cell into `buffer`; with `repulsion`, add their conservative forces to sortedForces (sorted order). */
+    void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates,
+                    OpenMM::Vec3* sortedForces);
+    /** A small grid's search (one block per colour): thread t searches part t (both parts with one thread). */
+    void searchSmallGridParts(int thread, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion);
     /** The first sorted particle of a thread's share of [0, numParticles). */
     int particleRangeBegin(int thread, int numParticles) const { return CpuDPDCellGrid::shareBegin(numParticles, thread, numThreads); }
     using ParticleRangeTask = std::function<void(int begin, int end)>;
@@ -102,6 +107,9 @@ private:
      */
     void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                       const RunTask& apply, const ScatterTask& scatter);
+    /** A small grid's sweep: thread 0 sweeps the pieces in order while the others compute coefficients ahead (CpuDPDSweepPipeline). */
+    void sweepSmallGrid(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
+                        const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply);
     /**
      * The successive velocity sweep of O (exact OU) and S1 (BBK): Delta p = slope u + offset per pair.
      * With `response` (Norton), also returns G . Delta p^D summed cell by cell in sweep order.
@@ -134,6 +142,10 @@ private:
     std::vector<double> sortedInverseMass;            // gathered only when the sweep is not uniform
     bool uniformSweep = false;                        // one friction type, one mass: no per-particle parameters
     double uniformInverseMass = 0.0;
+    bool smallGrid = false;                           // one block per colour (findPairs)
+    std::vector<OpenMM::Vec3> secondPartForces;       // a small grid's second search part's forces (sorted order)
+    CpuDPDSweepPipeline sweepPipeline;                // a small grid's sweep in pieces, shared by two threads
+    std::vector<CpuDPDPairUpdateBlock> pieceBlocks;   // the pieces' coefficients
 };
 
 } // namespace OpenMMDPD

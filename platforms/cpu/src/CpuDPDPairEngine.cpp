@@ -58,7 +58,13 @@ void CpuDPDPairEngine::onThreads(const std::function<void(int)>& body) {
         body(0);
         return;
     }
-    threads->run(body);
+    if (numThreads == threads->getNumThreads())
+        threads->run(body);
+    else
+        threads->run([&](int thread) {
+            if (thread < numThreads)
+                body(thread);
+        });
 }
 
 void CpuDPDPairEngine::forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) {
@@ -93,7 +99,8 @@ constexpr std::size_t padding = 8;
 } // namespace
 
 __attribute__((target_clones("avx512f", "avx2", "default")))
-void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates) {
+void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates,
+                                  Vec3* sortedForces) {
     // The candidates of every particle of this cell are the particles of its half stencil, seen
     // through their lattice shifts, in one contiguous array: the cell's own particles first (a
     // particle pairs with those after it), then the 13 neighbours'.
@@ -153,7 +160,7 @@ void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePai
     }
     const CpuDPDConservativeForce::Table table{repulsion, inverseRepulsionCutoff.data(), sortedRepulsionType.data()};
     double energy = CpuDPDConservativeForce::add(numPairs, paddedPairs, &buffer.i[cellBegin], &buffer.j[cellBegin], ex, ey, ez, table,
-                                                 candidates.forceMagnitude, sortedForces.data());
+                                                 candidates.forceMagnitude, sortedForces);
     cellSum[cell] = energy;
 }
 
@@ -165,8 +172,16 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
     int numCells = grid.getNumCells();
     // Threads pay off only when each has enough cells of a colour between two barriers; otherwise the
     // whole list goes to one thread.  Only the split changes, never the order: the same bits either way.
-    const int minCellsPerThreadAndColor = 8;
-    numThreads = numCells >= minCellsPerThreadAndColor*threads->getNumThreads()*grid.getNumColors() ? threads->getNumThreads() : 1;
+    // A box whose colours hold one block each (under six cutoffs wide) cannot share a colour: it is
+    // searched in two parts, each adding its forces into its own array, and swept by one thread while
+    // another computes the coefficients ahead of it (CpuDPDSweepPipeline).  Two threads at most, and
+    // the same bits for any thread count: the parts depend on the grid alone.
+    const int minCellsPerThreadAndColor = 8, minParticlesForTwoThreads = 256;
+    smallGrid = grid.getNumBlocks() == grid.getNumColors();
+    if (smallGrid)
+        numThreads = numParticles >= minParticlesForTwoThreads ? std::min(2, threads->getNumThreads()) : 1;
+    else
+        numThreads = numCells >= minCellsPerThreadAndColor*threads->getNumThreads()*grid.getNumColors() ? threads->getNumThreads() : 1;
     barrier.setNumThreads(numThreads);
     cellPairBegin.resize(numCells);
     cellPairEnd.resize(numCells);
@@ -174,6 +189,7 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
     if (repulsion != nullptr) {
         sortedRepulsionType.resize(numParticles);
         sortedForces.resize(numParticles);
+        secondPartForces.resize(smallGrid ? numParticles : 0);
         inverseRepulsionCutoff.resize(repulsion->cutoff.size());
         for (std::size_t k = 0; k < inverseRepulsionCutoff.size(); k++)
             inverseRepulsionCutoff[k] = 1.0/repulsion->cutoff[k];
@@ -199,6 +215,8 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
         grid.gatherSortedPositions(sortedBegin, sortedEnd);
         if (repulsion != nullptr) {
             std::fill(sortedForces.begin()+sortedBegin, sortedForces.begin()+sortedEnd, Vec3());
+            if (smallGrid)
+                std::fill(secondPartForces.begin()+sortedBegin, secondPartForces.begin()+sortedEnd, Vec3());
             if (repulsion->numTypes > 1) // with one type the force pass reads no types
                 for (int s = sortedBegin; s < sortedEnd; s++)
                     sortedRepulsionType[s] = repulsion->particleTypeIndex[grid.sortedToOriginal[s]];
@@ -206,6 +224,16 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
         barrier.wait();
         PairBuffer& buffer = buffers[thread];
         buffer.size = 0;
+        if (smallGrid) {
+            searchSmallGridParts(thread, buffer, repulsion);
+            if (repulsion == nullptr)
+                return;
+            barrier.wait();
+            if (thread == 0) // the two parts' sums, in part order; one thread, which goes on with these forces
+                for (int locating = 0; locating < numThreads; locating++)
+                    grid.forEachLocatedParticle(locating, [&](int i, int s) { (*forces)[i] += sortedForces[s]+secondPartForces[s]; });
+            return;
+        }
         for (int color = 0; color < grid.getNumColors(); color++) {
             shareBlocksOfColor(color, thread);
             for (int block; (block = blockQueue.take(thread)) >= 0;)
@@ -213,7 +241,7 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
                     int cell = grid.cellsInSweepOrder[k];
                     cellBuffer[cell] = thread;
                     cellPairBegin[cell] = static_cast<int>(buffer.size);
-                    searchCell(cell, buffer, repulsion, candidateSets[thread]);
+                    searchCell(cell, buffer, repulsion, candidateSets[thread], sortedForces.data());
                     cellPairEnd[cell] = static_cast<int>(buffer.size);
                 }
             if (repulsion != nullptr) // the forces of one colour's cells touch no particle twice
@@ -231,6 +259,49 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
     return energy;
 }
 
+void CpuDPDPairEngine::searchSmallGridParts(int thread, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion) {
+    // Part 0 is the colours before the colour boundary nearest to half the cells, part 1 the rest.  A
+    // thread searches whole parts in sweep order, so a part's pairs are consecutive in one buffer.
+    int numColors = grid.getNumColors(), numCells = grid.getNumCells(), boundary = 0;
+    for (int color = 1; color <= numColors; color++)
+        if (std::abs(2*grid.colorStart[color]-numCells) < std::abs(2*grid.colorStart[boundary]-numCells))
+            boundary = color;
+    for (int part = thread; part < 2; part += numThreads) {
+        Vec3* partForces = part == 0 ? sortedForces.data() : secondPartForces.data();
+        for (int k = part == 0 ? 0 : grid.colorStart[boundary]; k < (part == 0 ? grid.colorStart[boundary] : numCells); k++) {
+            int cell = grid.cellsInSweepOrder[k];
+            cellBuffer[cell] = thread;
+            cellPairBegin[cell] = static_cast<int>(buffer.size);
+            searchCell(cell, buffer, repulsion, candidateSets[thread], partForces);
+            cellPairEnd[cell] = static_cast<int>(buffer.size);
+        }
+    }
+}
+
+void CpuDPDPairEngine::sweepSmallGrid(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
+                                      const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply) {
+    // A block of coefficients per piece; with one thread, one block serves all.
+    const std::vector<CpuDPDSweepPipeline::Piece>& pieces = sweepPipeline.getPieces();
+    auto blockOf = [&](int piece) -> CpuDPDPairUpdateBlock& { return pieceBlocks[numThreads == 1 ? 0 : piece]; };
+    auto pieceRun = [&](int piece) {
+        const CpuDPDSweepPipeline::Piece& p = pieces[piece];
+        return PairRun{p.cellBegin, p.cellEnd, p.pairBegin, p.pairEnd, p.buffer, &blockOf(piece)};
+    };
+    auto computeCoefficients = [&](int piece) {
+        const CpuDPDSweepPipeline::Piece& p = pieces[piece];
+        const PairBuffer& pairs = buffers[p.buffer];
+        blockOf(piece).compute(kind, sweep, particles, p.pairEnd-p.pairBegin, &pairs.i[p.pairBegin], &pairs.j[p.pairBegin]);
+    };
+    auto sweepPiece = [&](int piece) {
+        PairRun runs[numStreams];
+        runs[0] = pieceRun(piece);
+        for (int k = 1; k < numStreams; k++)
+            runs[k] = PairRun{0, 0, 0, 0, 0, runs[0].block};
+        apply(thread, runs);
+    };
+    sweepPipeline.run(thread, numThreads, computeCoefficients, sweepPiece);
+}
+
 void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                                     const RunTask& apply, const ScatterTask& scatter) {
     int numParticles = static_cast<int>(grid.sortedToOriginal.size());
@@ -242,8 +313,17 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
     bool uniform = sweep.friction.numTypes == 1 && sweep.uniformInverseMass;
     uniformSweep = uniform;
     uniformInverseMass = numParticles > 0 ? sweep.inverseMasses[0] : 0.0;
+    if (smallGrid) {
+        sweepPipeline.cut(grid.cellsInSweepOrder, cellPairBegin, cellPairEnd, cellBuffer);
+        if (pieceBlocks.size() < sweepPipeline.getPieces().size())
+            pieceBlocks.resize(sweepPipeline.getPieces().size());
+    }
     onThreads([&](int thread) {
         int firstParticle = particleRangeBegin(thread, numParticles), lastParticle = particleRangeBegin(thread+1, numParticles);
+        if (smallGrid) { // the sweeping thread gathers and scatters every particle: its velocities stay in its cache
+            firstParticle = 0;
+            lastParticle = thread == 0 ? numParticles : 0;
+        }
         const double* inverseMass = sweep.inverseMasses.data();
         if (!uniform)
             for (int s = firstParticle; s < lastParticle; s++) {
@@ -255,6 +335,15 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
                                                    sortedInverseMass.data(), grid.sortedX.data(), grid.sortedY.data(), grid.sortedZ.data(),
                                                    grid.getBoxVectors()};
         gather(firstParticle, lastParticle);
+        if (smallGrid) {
+            if (!uniform) // the coefficients read the sorted types and masses
+                barrier.wait();
+            sweepSmallGrid(thread, kind, sweep, particles, apply);
+            if (thread == 0)
+                for (int locating = 0; locating < numThreads; locating++)
+                    scatter(locating);
+            return;
+        }
         barrier.wait();
         // Each thread takes blocks of a colour (its own share first, then what is left of the others',
         // CpuDPDBlockQueue) in runs of consecutive blocks whose pairs are consecutive in one search
