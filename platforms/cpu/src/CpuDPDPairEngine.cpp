@@ -229,9 +229,9 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
             if (repulsion == nullptr)
                 return;
             barrier.wait();
-            if (thread == 0) // the two parts' sums, in part order; one thread, which goes on with these forces
-                for (int locating = 0; locating < numThreads; locating++)
-                    grid.forEachLocatedParticle(locating, [&](int i, int s) { (*forces)[i] += sortedForces[s]+secondPartForces[s]; });
+            if (thread == 0) // the two parts' sums, in part order, by the thread that goes on with these forces; the
+                for (int s = 0; s < numParticles; s++) // other's part is read in order, which the processor prefetches
+                    (*forces)[grid.sortedToOriginal[s]] += sortedForces[s]+secondPartForces[s];
             return;
         }
         for (int color = 0; color < grid.getNumColors(); color++) {
