@@ -10,6 +10,7 @@
 
 #include "CpuDPDBlockQueue.h"
 #include "CpuDPDCellGrid.h"
+#include "CpuDPDSuccessiveSweep.h"
 #include "CpuDPDThreadTeam.h"
 #include "DPDTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
@@ -185,6 +186,62 @@ TEST(CpuPairEngine, BlockQueueHandsOutEveryBlockOnceWhateverTheRace) {
         EXPECT_GT(ownTaken[0], 0);
         for (int thread = 0; thread < 4; thread++)
             EXPECT_EQ(queue.take(thread), -1);
+    }
+}
+
+TEST(CpuPairEngine, SuccessiveSweepKernelIsThePairByPairUpdate) {
+    // The side-by-side sweep against the update written plainly, pair after pair: u = e . (v_a - v_b),
+    // Delta p = slope u + offset, v_a += e Delta p / m_a, v_b -= e Delta p / m_b.  Two runs over
+    // disjoint particles, each in runs of one a (up to 12 pairs, as a cell's particle with its
+    // candidates), with uneven lengths, uniform and per-particle masses.  Only the rounding may differ.
+    std::mt19937 engine(17);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    const int particlesPerRun = 40;
+    for (bool uniformMass : {true, false}) {
+        std::vector<Vec3> velocity(2*particlesPerRun);
+        std::vector<double> inverseMass(2*particlesPerRun, 0.5);
+        for (int i = 0; i < 2*particlesPerRun; i++) {
+            velocity[i] = Vec3(uniform(engine), uniform(engine), uniform(engine));
+            if (!uniformMass)
+                inverseMass[i] = 0.3+0.5*(uniform(engine)+1.0);
+        }
+        struct Pairs {
+            std::vector<int> a, b;
+            std::vector<double> ex, ey, ez, slope, offset;
+        } pairs[2];
+        for (int run = 0; run < 2; run++) {
+            int first = run*particlesPerRun;
+            for (int a = first; a < first+particlesPerRun-1; a++) {
+                int count = std::uniform_int_distribution<int>(0, std::min(12, first+particlesPerRun-1-a)-(run == 1 ? 1 : 0))(engine);
+                for (int k = 0; k < count; k++) {
+                    Vec3 e(uniform(engine), uniform(engine), uniform(engine));
+                    e /= std::sqrt(e.dot(e));
+                    pairs[run].a.push_back(a);
+                    pairs[run].b.push_back(a+1+k);
+                    pairs[run].ex.push_back(e[0]);
+                    pairs[run].ey.push_back(e[1]);
+                    pairs[run].ez.push_back(e[2]);
+                    pairs[run].slope.push_back(-0.9*(uniform(engine)+1.0)); // an OU step's slope lies in (-2 m_ij, 0]
+                    pairs[run].offset.push_back(uniform(engine));
+                }
+            }
+        }
+        std::vector<Vec3> expected = velocity;
+        for (const Pairs& run : pairs)
+            for (std::size_t n = 0; n < run.a.size(); n++) {
+                int a = run.a[n], b = run.b[n];
+                Vec3 e(run.ex[n], run.ey[n], run.ez[n]);
+                double deltaP = run.slope[n]*e.dot(expected[a]-expected[b])+run.offset[n];
+                expected[a] += e*(deltaP*inverseMass[a]);
+                expected[b] -= e*(deltaP*inverseMass[b]);
+            }
+        CpuDPDSuccessiveSweep::Run runs[2];
+        for (int run = 0; run < 2; run++)
+            runs[run] = {static_cast<int>(pairs[run].a.size()), pairs[run].a.data(), pairs[run].b.data(), pairs[run].ex.data(),
+                         pairs[run].ey.data(), pairs[run].ez.data(), pairs[run].slope.data(), pairs[run].offset.data()};
+        ASSERT_GT(runs[0].count, 100);
+        CpuDPDSuccessiveSweep::sweepSideBySide(runs, velocity.data(), uniformMass ? nullptr : inverseMass.data(), 0.5);
+        EXPECT_LT(maxAbsDifference(velocity, expected), 1e-12*maxNorm(expected)) << (uniformMass ? "uniform" : "per-particle") << " masses";
     }
 }
 
