@@ -3,6 +3,7 @@
 
 #include "CpuDPDBlockQueue.h"
 #include "CpuDPDCellGrid.h"
+#include "CpuDPDHugePages.h"
 #include "CpuDPDSweepPipeline.h"
 #include "CpuDPDPairUpdateBlock.h"
 #include "CpuDPDSuccessiveSweep.h"
@@ -142,6 +143,7 @@ private:
     std::vector<double> sortedInverseMass;            // gathered only when the sweep is not uniform
     bool uniformSweep = false;                        // one friction type, one mass: no per-particle parameters
     double uniformInverseMass = 0.0;
+    CpuDPDHugePages hugePages;                        // OpenMM's arrays, which the engine reads and writes at random
     bool smallGrid = false;                           // one block per colour (findPairs)
     std::vector<OpenMM::Vec3> secondPartForces;       // a small grid's second search part's forces (sorted order)
     CpuDPDSweepPipeline sweepPipeline;                // a small grid's sweep in pieces, shared by two threads

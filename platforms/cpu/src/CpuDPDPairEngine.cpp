@@ -168,6 +168,9 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
                                    const DPDTypePairTable::Compiled* repulsion, std::vector<Vec3>* forces) {
     this->radius = radius;
     int numParticles = static_cast<int>(positions.size());
+    hugePages.advise(CpuDPDHugePages::Positions, positions.data(), positions.size()*sizeof(Vec3));
+    if (forces != nullptr)
+        hugePages.advise(CpuDPDHugePages::Forces, forces->data(), forces->size()*sizeof(Vec3));
     grid.prepare(numParticles, box, radius);
     int numCells = grid.getNumCells();
     // Threads pay off only when each has enough cells of a colour between two barriers; otherwise the
@@ -440,6 +443,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
                                          const std::vector<Vec3>* response) {
     const std::vector<int>& original = grid.sortedToOriginal;
     sortedVelocities.resize(original.size());
+    hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
     if (response != nullptr)
         sortedResponse.resize(original.size());
     auto gather = [&](int begin, int end) {
@@ -518,6 +522,8 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
     const std::vector<int>& original = grid.sortedToOriginal;
     sortedVelocities.resize(original.size());
     sortedForces.resize(original.size());
+    hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
+    hugePages.advise(CpuDPDHugePages::Forces, forces.data(), forces.size()*sizeof(Vec3));
     auto gather = [&](int begin, int end) {
         for (int s = begin; s < end; s++) {
             sortedVelocities[s] = velocities[original[s]];
