@@ -43,7 +43,7 @@ public:
 
     /**
      * Fill unit vectors and coefficients of pairs [0, count) given by sorted indices i, j; the
-     * output arrays hold count rounded up to blockSize.
+     * output arrays hold at least count rounded up to blockSize.
      */
     void compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count, const int* i, const int* j);
 

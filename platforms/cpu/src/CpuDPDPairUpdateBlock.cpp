@@ -127,8 +127,11 @@ BlockPass selectBlockPass() {
 void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count,
                                     const int* i, const int* j) {
     std::size_t wholeBlocks = count/blockSize, tail = count-wholeBlocks*blockSize;
-    for (std::vector<double>* out : {&ex, &ey, &ez, &r, &slope, &offset})
-        out->resize((wholeBlocks+1)*blockSize);
+    // The arrays only grow: runs differ in length from one call to the next, and growing again after
+    // a shrink would clear the new entries every time (up to 5 % of a two-thread step at 32 000).
+    if (ex.size() < (wholeBlocks+1)*blockSize)
+        for (std::vector<double>* out : {&ex, &ey, &ez, &r, &slope, &offset})
+            out->resize((wholeBlocks+1)*blockSize);
     static const BlockPass passes[2][3] = {
         {selectBlockPass<OrnsteinUhlenbeck, false>(), selectBlockPass<BBK, false>(), selectBlockPass<DissipativeAndRandomForce, false>()},
         {selectBlockPass<OrnsteinUhlenbeck, true>(), selectBlockPass<BBK, true>(), selectBlockPass<DissipativeAndRandomForce, true>()}};
