@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <set>
 #include <thread>
 
@@ -57,12 +58,41 @@ void expectCpuMatchesDirectSum(const SoftFluid& fluid, double cutoff) {
     EXPECT_NEAR(state.getPotentialEnergy(), expected.energy, 1e-9*expected.energy);
 }
 
-Snapshot runWithThreads(const System& system, Integrator& integrator, const EquilibratedFluid& start, int threads, int steps) {
+/** Run from `start` on the CPU platform with `threads` threads; afterSteps() reads what it needs while the Context lives. */
+Snapshot runWithThreads(const System& system, Integrator& integrator, const EquilibratedFluid& start, int threads, int steps,
+                        const std::function<void()>& afterSteps = {}) {
     Context context(system, integrator, platform("CPU"), {{"Threads", std::to_string(threads)}});
     context.setPositions(start.fluid.positions);
     context.setVelocities(start.velocities);
     integrator.step(steps);
+    if (afterSteps)
+        afterSteps();
     return snapshot(context);
+}
+
+/** Every scheme from `start` with 1, 2 and 16 threads: the same bits, and the particles moved. */
+void expectEverySchemeBitIdenticalForOneTwoAndSixteenThreads(const EquilibratedFluid& start, int steps) {
+    const int threads[3] = {1, 2, 16};
+    for (const std::string& scheme : allSchemes) {
+        Snapshot result[3];
+        for (int k = 0; k < 3; k++) {
+            DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
+            integrator.setRandomNumberSeed(5);
+            result[k] = runWithThreads(*start.fluid.system, integrator, start, threads[k], steps);
+        }
+        EXPECT_TRUE(bitIdentical(result[0], result[1])) << scheme << ": 1 and 2 threads";
+        EXPECT_TRUE(bitIdentical(result[0], result[2])) << scheme << ": 1 and 16 threads";
+        EXPECT_GT(maxAbsDifference(result[0].positions, start.fluid.positions), 0.05) << scheme;
+    }
+}
+
+/** Norton dynamics (sinusoidal shear profile) from `start`: the snapshot after `steps` and the forcing sum. */
+Snapshot runNortonWithThreads(const EquilibratedFluid& start, int threads, int steps, int seed, double& forcingSum) {
+    DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, "ABOBA");
+    integrator.setRandomNumberSeed(seed);
+    integrator.setNorton(DPDShearProfile(DPDShearProfile::Sinusoidal), 0.1);
+    return runWithThreads(*start.fluid.system, integrator, start, threads, steps,
+                          [&] { forcingSum = integrator.getTransportStatistics().forcingSum; });
 }
 
 } // namespace
@@ -265,19 +295,7 @@ TEST(CpuPairEngine, TinyCutoffInALargeBoxNeedsNoHugeGrid) {
 TEST(CpuPairEngine, TrajectoriesAreBitIdenticalForOneTwoAndSixteenThreads) {
     // 32 000 particles: 22 cells per axis in 10 blocks of 2-3 cells per axis, 8 colours of 125 blocks:
     // enough for 16 threads to share (the engine gives a list too small to share to one thread).  The sweep order and every sum a particle receives depend only on the positions.
-    EquilibratedFluid start = equilibratedSoftFluid(32000, 3.0, 10);
-    for (const std::string& scheme : allSchemes) {
-        Snapshot result[3];
-        const int threads[3] = {1, 2, 16};
-        for (int k = 0; k < 3; k++) {
-            DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
-            integrator.setRandomNumberSeed(5);
-            result[k] = runWithThreads(*start.fluid.system, integrator, start, threads[k], 10);
-        }
-        EXPECT_TRUE(bitIdentical(result[0], result[1])) << scheme << ": 1 and 2 threads";
-        EXPECT_TRUE(bitIdentical(result[0], result[2])) << scheme << ": 1 and 16 threads";
-        EXPECT_GT(maxAbsDifference(result[0].positions, start.fluid.positions), 0.05) << scheme;
-    }
+    expectEverySchemeBitIdenticalForOneTwoAndSixteenThreads(equilibratedSoftFluid(32000, 3.0, 10), 10);
 }
 
 TEST(CpuPairEngine, SmallBoxesAreBitIdenticalForOneTwoAndSixteenThreads) {
@@ -292,18 +310,7 @@ TEST(CpuPairEngine, SmallBoxesAreBitIdenticalForOneTwoAndSixteenThreads) {
     CpuDPDCellGrid grid;
     grid.prepare(500, box, 1.0);
     ASSERT_EQ(grid.getNumBlocks(), grid.getNumColors());
-    const int threads[3] = {1, 2, 16};
-    for (const std::string& scheme : allSchemes) {
-        Snapshot result[3];
-        for (int k = 0; k < 3; k++) {
-            DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
-            integrator.setRandomNumberSeed(5);
-            result[k] = runWithThreads(*start.fluid.system, integrator, start, threads[k], 20);
-        }
-        EXPECT_TRUE(bitIdentical(result[0], result[1])) << scheme << ": 1 and 2 threads";
-        EXPECT_TRUE(bitIdentical(result[0], result[2])) << scheme << ": 1 and 16 threads";
-        EXPECT_GT(maxAbsDifference(result[0].positions, start.fluid.positions), 0.05) << scheme;
-    }
+    expectEverySchemeBitIdenticalForOneTwoAndSixteenThreads(start, 20);
     Snapshot sheared[2], norton[2];
     double stress[2], forcing[2];
     for (int k = 0; k < 2; k++) {
@@ -314,21 +321,9 @@ TEST(CpuPairEngine, SmallBoxesAreBitIdenticalForOneTwoAndSixteenThreads) {
         for (int i = 0; i < 100; i++)
             integrator.setParticleType(i, 1);
         integrator.addTypePair(0, 1, 9.0, 1.0);
-        Context shearContext(*start.fluid.system, integrator, platform("CPU"), {{"Threads", std::to_string(threads[k])}});
-        shearContext.setPositions(start.fluid.positions);
-        shearContext.setVelocities(start.velocities);
-        integrator.step(20);
-        sheared[k] = snapshot(shearContext);
-        stress[k] = integrator.getStressStatistics().dissipative[1];
-        DPDIntegrator nortonIntegrator(reducedTemperature, 4.5, 1.0, 0.04, "ABOBA");
-        nortonIntegrator.setRandomNumberSeed(3);
-        nortonIntegrator.setNorton(DPDShearProfile(DPDShearProfile::Sinusoidal), 0.1);
-        Context context(*start.fluid.system, nortonIntegrator, platform("CPU"), {{"Threads", std::to_string(threads[k])}});
-        context.setPositions(start.fluid.positions);
-        context.setVelocities(start.velocities);
-        nortonIntegrator.step(20);
-        norton[k] = snapshot(context);
-        forcing[k] = nortonIntegrator.getTransportStatistics().forcingSum;
+        sheared[k] = runWithThreads(*start.fluid.system, integrator, start, k+1, 20,
+                                    [&] { stress[k] = integrator.getStressStatistics().dissipative[1]; });
+        norton[k] = runNortonWithThreads(start, k+1, 20, 3, forcing[k]);
     }
     EXPECT_TRUE(bitIdentical(sheared[0], sheared[1]));
     EXPECT_EQ(stress[0], stress[1]);
@@ -347,16 +342,8 @@ TEST(CpuPairEngine, OwnPairsAndNortonAreBitIdenticalAcrossThreadCounts) {
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, "ABOBA");
         integrator.addTypePair(7, 7, 0.0, 1.2);
         integrator.setRandomNumberSeed(9);
-        own[k] = runWithThreads(*start.fluid.system, integrator, start, k == 0 ? 1 : 2, 10);
-        DPDIntegrator nortonIntegrator(reducedTemperature, 4.5, 1.0, 0.04, "ABOBA");
-        nortonIntegrator.setRandomNumberSeed(9);
-        nortonIntegrator.setNorton(DPDShearProfile(DPDShearProfile::Sinusoidal), 0.1);
-        Context context(*start.fluid.system, nortonIntegrator, platform("CPU"), {{"Threads", k == 0 ? "1" : "2"}});
-        context.setPositions(start.fluid.positions);
-        context.setVelocities(start.velocities);
-        nortonIntegrator.step(10);
-        norton[k] = snapshot(context);
-        forcing[k] = nortonIntegrator.getTransportStatistics().forcingSum;
+        own[k] = runWithThreads(*start.fluid.system, integrator, start, k+1, 10);
+        norton[k] = runNortonWithThreads(start, k+1, 10, 9, forcing[k]);
     }
     EXPECT_TRUE(bitIdentical(own[0], own[1]));
     EXPECT_TRUE(bitIdentical(norton[0], norton[1]));
