@@ -86,12 +86,11 @@ private:
     int particleRangeBegin(int thread, int numParticles) const { return CpuDPDCellGrid::shareBegin(numParticles, thread, numThreads); }
     using ParticleRangeTask = std::function<void(int begin, int end)>;
     /**
-     * Consecutive cells [cellBegin, cellEnd) of sweep order, whole blocks of one colour, and their
-     * pairs [pairBegin, pairEnd) in the search buffer of thread `buffer`, whose coefficients `block`
-     * holds from its entry 0 (pair pairBegin) on.  Empty when cellBegin == cellEnd.
+     * Consecutive cells [cellBegin, cellEnd) of sweep order (whole blocks of one colour, or a small
+     * grid's piece) and their pairs [pairBegin, pairEnd) in the search buffer of thread `buffer`, whose
+     * coefficients `block` holds from its entry 0 (pair pairBegin) on.  Empty when cellBegin == cellEnd.
      */
-    struct PairRun {
-        int cellBegin, cellEnd, pairBegin, pairEnd, buffer;
+    struct PairRun : CpuDPDSweepPipeline::Piece {
         const CpuDPDPairUpdateBlock* block;
     };
     /** The streams of runs a thread sweeps side by side (CpuDPDSuccessiveSweep). */
@@ -102,12 +101,18 @@ private:
     using RunTask = std::function<void(int thread, const PairRun* runs)>;
     /**
      * The successive sweep shared by O, BBK and VV, in one task on the threads: each thread gathers
-     * its share of the particles into sorted order, then per colour its pairs get their coefficients
-     * in one vector pass and apply(two runs of cells) sweeps them, then each thread scatters the
-     * particles it located back to System order.
+     * its share of the particles into sorted order, sweeps (sweepBlocksByColor, or sweepSmallGrid with
+     * thread 0 gathering and scattering every particle), then scatters the particles it located back
+     * to System order.
      */
     void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                       const RunTask& apply, const ScatterTask& scatter);
+    /**
+     * A thread's part of the colour-by-colour sweep: per colour, runs of its blocks get their
+     * coefficients and apply(runs) sweeps them, numStreams runs side by side.
+     */
+    void sweepBlocksByColor(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
+                            const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply);
     /** A small grid's sweep: thread 0 sweeps the pieces in order while the others compute coefficients ahead (CpuDPDSweepPipeline). */
     void sweepSmallGrid(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
                         const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply);

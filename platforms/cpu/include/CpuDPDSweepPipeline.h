@@ -4,7 +4,6 @@
 #include "CpuDPDBlockQueue.h"
 #include "CpuDPDThreadBarrier.h"
 #include <atomic>
-#include <memory>
 #include <vector>
 
 namespace OpenMMDPD {
@@ -42,7 +41,7 @@ public:
     void run(int thread, int numThreads, Compute computeCoefficients, Sweep sweepPiece) {
         auto compute = [&](int piece) {
             computeCoefficients(piece);
-            computed[piece].store(sweepCount, std::memory_order_release);
+            computed[piece].store(true, std::memory_order_release);
         };
         if (thread > 0) {
             for (int piece; (piece = untaken.takeOwn(0, true)) >= 0;)
@@ -55,7 +54,7 @@ public:
                 computedPairs += pieces[piece].pairEnd-pieces[piece].pairBegin;
             }
         for (int piece = 0, numPieces = static_cast<int>(pieces.size()); piece < numPieces; piece++) {
-            for (int spins = 1; computed[piece].load(std::memory_order_acquire) != sweepCount; spins++) {
+            for (int spins = 1; !computed[piece].load(std::memory_order_acquire); spins++) {
                 int next = untaken.takeOwn(0, untaken.ownFront(0) == piece);
                 if (next >= 0)
                     compute(next);
@@ -69,9 +68,7 @@ public:
 private:
     std::vector<Piece> pieces;
     int totalPairs = 0;
-    std::unique_ptr<std::atomic<unsigned>[]> computed; // per piece: the sweep that computed it last
-    int capacity = 0;
-    unsigned sweepCount = 0;
+    std::vector<std::atomic<bool>> computed; // per piece, in this sweep
     CpuDPDBlockQueue untaken; // the pieces nobody has taken, the first share of two (so that takes are atomic)
 };
 

@@ -287,10 +287,6 @@ void CpuDPDPairEngine::sweepSmallGrid(int thread, CpuDPDPairUpdateBlock::Kind ki
     // A block of coefficients per piece; with one thread, one block serves all.
     const std::vector<CpuDPDSweepPipeline::Piece>& pieces = sweepPipeline.getPieces();
     auto blockOf = [&](int piece) -> CpuDPDPairUpdateBlock& { return pieceBlocks[numThreads == 1 ? 0 : piece]; };
-    auto pieceRun = [&](int piece) {
-        const CpuDPDSweepPipeline::Piece& p = pieces[piece];
-        return PairRun{p.cellBegin, p.cellEnd, p.pairBegin, p.pairEnd, p.buffer, &blockOf(piece)};
-    };
     auto computeCoefficients = [&](int piece) {
         const CpuDPDSweepPipeline::Piece& p = pieces[piece];
         const PairBuffer& pairs = buffers[p.buffer];
@@ -298,12 +294,85 @@ void CpuDPDPairEngine::sweepSmallGrid(int thread, CpuDPDPairUpdateBlock::Kind ki
     };
     auto sweepPiece = [&](int piece) {
         PairRun runs[numStreams];
-        runs[0] = pieceRun(piece);
+        runs[0] = PairRun{pieces[piece], &blockOf(piece)};
         for (int k = 1; k < numStreams; k++)
-            runs[k] = PairRun{0, 0, 0, 0, 0, runs[0].block};
+            runs[k] = PairRun{{0, 0, 0, 0, 0}, runs[0].block};
         apply(thread, runs);
     };
     sweepPipeline.run(thread, numThreads, computeCoefficients, sweepPiece);
+}
+
+void CpuDPDPairEngine::sweepBlocksByColor(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
+                                          const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply) {
+    // Each thread takes blocks of a colour (its own share first, then what is left of the others',
+    // CpuDPDBlockQueue) in runs of consecutive blocks whose pairs are consecutive in one search
+    // buffer, up to about pairsPerRun pairs: the coefficients of a run are still in the cache when
+    // its cells are swept, and the block's arrays stay small.  The coefficients do not depend on
+    // where the runs start (CpuDPDPairUpdateBlock), so neither do the bits.  A thread sweeps
+    // numStreams runs side by side: blocks of one colour share no particle, so their updates are
+    // independent (the same sums in the same order as one after the other) and the processor
+    // overlaps their dependency chains.
+    const int pairsPerRun = 8192/numStreams;
+    const int* cells = grid.cellsInSweepOrder.data();
+    const int* blockStart = grid.blockStart.data();
+    // Stream 0 takes the thread's own blocks from the front of its share, at most half of them
+    // (a quarter with several threads: the others, which take from its back, then finish with
+    // it); stream 1 takes as many pairs from the back, so the two streams stay even.  Blocks of
+    // other threads come from the back of their shares.
+    int pending[numStreams]; // a block taken that did not fit the stream's run before
+    std::fill(pending, pending+numStreams, -1);
+    auto takeRun = [&](int stream, CpuDPDPairUpdateBlock& block, int pairBudget) {
+        bool front = stream == 0;
+        int blocksLeft = blockQueue.ownLeft(thread)+(pending[stream] >= 0 ? 1 : 0);
+        int maxBlocks = !front ? std::numeric_limits<int>::max() : numThreads == 1 ? (blocksLeft+1)/2 : std::max(1, blocksLeft/4);
+        int first = pending[stream] >= 0 ? pending[stream] : blockQueue.take(thread, front);
+        pending[stream] = -1;
+        PairRun run{{0, 0, 0, 0, 0}, &block};
+        if (first < 0)
+            return run;
+        run.cellBegin = blockStart[first];
+        run.cellEnd = blockStart[first+1];
+        run.buffer = cellBuffer[cells[run.cellBegin]];
+        run.pairBegin = cellPairBegin[cells[run.cellBegin]];
+        run.pairEnd = cellPairEnd[cells[run.cellEnd-1]];
+        for (int low = first, high = first; run.pairEnd-run.pairBegin < pairBudget && high-low+1 < maxBlocks;) {
+            int next = blockQueue.takeOwn(thread, front);
+            if (next < 0)
+                break;
+            int firstCell = cells[blockStart[next]], lastCell = cells[blockStart[next+1]-1];
+            bool adjacent = front ? next == high+1 && cellPairBegin[firstCell] == run.pairEnd
+                                  : next == low-1 && cellPairEnd[lastCell] == run.pairBegin;
+            int pairBegin = front ? run.pairBegin : cellPairBegin[firstCell], pairEnd = front ? cellPairEnd[lastCell] : run.pairEnd;
+            if (!adjacent || cellBuffer[firstCell] != run.buffer || pairEnd-pairBegin > pairsPerRun) {
+                pending[stream] = next;
+                break;
+            }
+            (front ? high : low) = next;
+            run.cellBegin = blockStart[low];
+            run.cellEnd = blockStart[high+1];
+            run.pairBegin = pairBegin;
+            run.pairEnd = pairEnd;
+        }
+        const PairBuffer& pairs = buffers[run.buffer];
+        block.compute(kind, sweep, particles, run.pairEnd-run.pairBegin, &pairs.i[run.pairBegin], &pairs.j[run.pairBegin]);
+        return run;
+    };
+    for (int color = 0; color < grid.getNumColors(); color++) {
+        shareBlocksOfColor(color, thread);
+        while (true) {
+            PairRun runs[numStreams];
+            bool any = false;
+            for (int k = 0; k < numStreams; k++) {
+                int budget = k > 0 && runs[0].pairEnd > runs[0].pairBegin ? runs[0].pairEnd-runs[0].pairBegin : pairsPerRun;
+                runs[k] = takeRun(k, blocks[numStreams*thread+k], budget);
+                any |= runs[k].cellBegin < runs[k].cellEnd;
+            }
+            if (!any)
+                break;
+            apply(thread, runs);
+        }
+        barrier.wait();
+    }
 }
 
 void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
@@ -349,75 +418,7 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
             return;
         }
         barrier.wait();
-        // Each thread takes blocks of a colour (its own share first, then what is left of the others',
-        // CpuDPDBlockQueue) in runs of consecutive blocks whose pairs are consecutive in one search
-        // buffer, up to about pairsPerRun pairs: the coefficients of a run are still in the cache when
-        // its cells are swept, and the block's arrays stay small.  The coefficients do not depend on
-        // where the runs start (CpuDPDPairUpdateBlock), so neither do the bits.  A thread sweeps
-        // numStreams runs side by side: blocks of one colour share no particle, so their updates are
-        // independent (the same sums in the same order as one after the other) and the processor
-        // overlaps their dependency chains.
-        const int pairsPerRun = 8192/numStreams;
-        const int* cells = grid.cellsInSweepOrder.data();
-        const int* blockStart = grid.blockStart.data();
-        // Stream 0 takes the thread's own blocks from the front of its share, at most half of them
-        // (a quarter with several threads: the others, which take from its back, then finish with
-        // it); stream 1 takes as many pairs from the back, so the two streams stay even.  Blocks of
-        // other threads come from the back of their shares.
-        int pending[numStreams]; // a block taken that did not fit the stream's run before
-        std::fill(pending, pending+numStreams, -1);
-        auto takeRun = [&](int stream, CpuDPDPairUpdateBlock& block, int pairBudget) {
-            bool front = stream == 0;
-            int blocksLeft = blockQueue.ownLeft(thread)+(pending[stream] >= 0 ? 1 : 0);
-            int maxBlocks = !front ? std::numeric_limits<int>::max() : numThreads == 1 ? (blocksLeft+1)/2 : std::max(1, blocksLeft/4);
-            int first = pending[stream] >= 0 ? pending[stream] : blockQueue.take(thread, front);
-            pending[stream] = -1;
-            PairRun run{0, 0, 0, 0, 0, &block};
-            if (first < 0)
-                return run;
-            run.cellBegin = blockStart[first];
-            run.cellEnd = blockStart[first+1];
-            run.buffer = cellBuffer[cells[run.cellBegin]];
-            run.pairBegin = cellPairBegin[cells[run.cellBegin]];
-            run.pairEnd = cellPairEnd[cells[run.cellEnd-1]];
-            for (int low = first, high = first; run.pairEnd-run.pairBegin < pairBudget && high-low+1 < maxBlocks;) {
-                int next = blockQueue.takeOwn(thread, front);
-                if (next < 0)
-                    break;
-                int firstCell = cells[blockStart[next]], lastCell = cells[blockStart[next+1]-1];
-                bool adjacent = front ? next == high+1 && cellPairBegin[firstCell] == run.pairEnd
-                                      : next == low-1 && cellPairEnd[lastCell] == run.pairBegin;
-                int pairBegin = front ? run.pairBegin : cellPairBegin[firstCell], pairEnd = front ? cellPairEnd[lastCell] : run.pairEnd;
-                if (!adjacent || cellBuffer[firstCell] != run.buffer || pairEnd-pairBegin > pairsPerRun) {
-                    pending[stream] = next;
-                    break;
-                }
-                (front ? high : low) = next;
-                run.cellBegin = blockStart[low];
-                run.cellEnd = blockStart[high+1];
-                run.pairBegin = pairBegin;
-                run.pairEnd = pairEnd;
-            }
-            const PairBuffer& pairs = buffers[run.buffer];
-            block.compute(kind, sweep, particles, run.pairEnd-run.pairBegin, &pairs.i[run.pairBegin], &pairs.j[run.pairBegin]);
-            return run;
-        };
-        for (int color = 0; color < grid.getNumColors(); color++) {
-            shareBlocksOfColor(color, thread);
-            while (true) {
-                PairRun runs[numStreams];
-                bool any = false;
-                for (int k = 0; k < numStreams; k++) {
-                    int budget = k > 0 && runs[0].pairEnd > runs[0].pairBegin ? runs[0].pairEnd-runs[0].pairBegin : pairsPerRun;
-                    runs[k] = takeRun(k, blocks[numStreams*thread+k], budget);
-                    any |= runs[k].cellBegin < runs[k].cellEnd;
-                }
-                if (!any)
-                    break;
-                apply(thread, runs);
-            }
-            barrier.wait();
-        }
+        sweepBlocksByColor(thread, kind, sweep, particles, apply);
         scatter(thread);
     });
 }

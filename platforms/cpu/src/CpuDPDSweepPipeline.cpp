@@ -8,7 +8,6 @@ void CpuDPDSweepPipeline::cut(const std::vector<int>& cellsInSweepOrder, const s
     // 512 against 128 and 256, whose extra pieces cost more (a hand-out, a partly filled last block of
     // coefficients) than the finer split of the work gains.
     const int piecePairs = 512;
-    int previousPieces = static_cast<int>(pieces.size());
     pieces.clear();
     totalPairs = 0;
     for (int k = 0, numCells = static_cast<int>(cellsInSweepOrder.size()); k < numCells;) {
@@ -26,17 +25,10 @@ void CpuDPDSweepPipeline::cut(const std::vector<int>& cellsInSweepOrder, const s
         k = piece.cellEnd;
     }
     int numPieces = static_cast<int>(pieces.size());
-    if (numPieces > capacity) {
-        computed.reset(new std::atomic<unsigned>[numPieces]);
-        capacity = numPieces;
-        previousPieces = 0;
-    }
-    // A piece is computed when its mark is this sweep's count.  Pieces of the last sweep hold its
-    // count; the others are cleared, and the count skips 0.
-    for (int piece = previousPieces; piece < numPieces; piece++)
-        computed[piece].store(0, std::memory_order_relaxed);
-    if (++sweepCount == 0)
-        sweepCount = 1;
+    if (computed.size() < pieces.size())
+        computed = std::vector<std::atomic<bool>>(pieces.size()); // atomics cannot be moved: a new array
+    for (int piece = 0; piece < numPieces; piece++)
+        computed[piece].store(false, std::memory_order_relaxed);
     untaken.setNumThreads(2);
     untaken.share(0, 0, numPieces);
     untaken.share(1, 0, 0);
