@@ -6,6 +6,7 @@
 //    DPDForce's pairs and with the integrator's own pairs, and for Norton dynamics (32 000 particles;
 //    below about 8 cells per thread and colour the engine keeps one thread), and in a box whose
 //    colours hold one block each (500 particles), where the search and sweep share work differently;
+//  - ABOBA's kicks fused into the O sweep give the separate kicks' bits, and catch a non-finite velocity;
 //  - a non-finite position is refused with the particle's index, never binned.
 
 #include "CpuDPDBlockQueue.h"
@@ -15,6 +16,8 @@
 #include "DPDTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/VerletIntegrator.h"
+#include "openmm/serialization/XmlSerializer.h"
+#include "openmmdpd/DPDForce.h"
 #include "openmmdpd/DPDShearProfile.h"
 #include <gtest/gtest.h>
 #include <atomic>
@@ -349,6 +352,61 @@ TEST(CpuPairEngine, OwnPairsAndNortonAreBitIdenticalAcrossThreadCounts) {
     EXPECT_TRUE(bitIdentical(norton[0], norton[1]));
     EXPECT_EQ(forcing[0], forcing[1]);
     EXPECT_NE(forcing[0], 0.0);
+}
+
+TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
+    // With one DPDForce, ABOBA's B(h/2) O B(h/2) is one sweep that kicks in its gather and scatter with
+    // the forces the DPDForce's engine kept (DPDPairSweep::flankingKick).  A second DPDForce of zero
+    // strength changes no force but makes the step take the separate kicks, the forces going through the
+    // Context: the same bits.  In a small box (one block per colour, the search in two parts) and a
+    // larger one, on 1 and 2 threads, with masses that differ between particles, and with the friction
+    // cutoff raised past the DPDForce's once bound (the integrator's own pairs then: the kept forces
+    // reach the Context after all).
+    auto run = [](const System& system, const EquilibratedFluid& start, double frictionCutoff, int threads) {
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, "ABOBA");
+        integrator.setRandomNumberSeed(5);
+        Context context(system, integrator, platform("CPU"), {{"Threads", std::to_string(threads)}});
+        integrator.setDefaultCutoff(frictionCutoff);
+        context.setPositions(start.fluid.positions);
+        context.setVelocities(start.velocities);
+        integrator.step(15);
+        return snapshot(context);
+    };
+    for (int n : {500, 3000}) {
+        EquilibratedFluid start = equilibratedSoftFluid(n, 3.0, 10);
+        for (int i = 0; i < n; i += 3)
+            start.fluid.system->setParticleMass(i, 2.0);
+        std::unique_ptr<System> withZeroForce(XmlSerializer::clone<System>(*start.fluid.system));
+        withZeroForce->addForce(new DPDForce(0.0, 0.5));
+        for (double frictionCutoff : {1.0, 1.2})
+            for (int threads : {1, 2}) {
+                SCOPED_TRACE(std::to_string(n) + " particles, friction cutoff " + std::to_string(frictionCutoff) + ", " +
+                             std::to_string(threads) + " threads");
+                Snapshot result[2] = {run(*start.fluid.system, start, frictionCutoff, threads), run(*withZeroForce, start, frictionCutoff, threads)};
+                EXPECT_TRUE(bitIdentical(result[0], result[1]));
+                EXPECT_GT(maxAbsDifference(result[0].positions, start.fluid.positions), 0.01);
+            }
+    }
+}
+
+TEST(CpuPairEngine, FusedKicksCatchANonFiniteVelocity) {
+    // A particle of mass 1e-300 is kicked to an infinite velocity: the sweep's scatter reports it, and
+    // the step throws before any position is kept from it.
+    for (int n : {500, 3000}) {
+        EquilibratedFluid start = equilibratedSoftFluid(n, 3.0, 10);
+        start.fluid.system->setParticleMass(7, 1e-300);
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, "ABOBA");
+        Context context(*start.fluid.system, integrator, platform("CPU"), {{"Threads", "2"}});
+        context.setPositions(start.fluid.positions);
+        context.setVelocities(start.velocities);
+        try {
+            integrator.step(5);
+            ADD_FAILURE() << n << " particles: no exception";
+        }
+        catch (const OpenMMException& e) {
+            EXPECT_NE(std::string(e.what()).find("non-finite or runaway velocities at step 1 (scheme ABOBA"), std::string::npos) << e.what();
+        }
+    }
 }
 
 TEST(CpuPairEngine, NonFinitePositionIsRefusedNotBinned) {

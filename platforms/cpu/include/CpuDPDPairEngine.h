@@ -48,6 +48,9 @@ public:
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
+    bool supportsFlankingKicks() const override { return true; }
+    void keepForcesSorted(bool keep) override { forcesStaySorted = keep; }
+    void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) override;
     /** On the engine's threads when every thread gets enough particles to pay for the hand-over; else at once. */
     void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) override;
 
@@ -148,6 +151,7 @@ private:
     std::vector<double> sortedInverseMass;            // gathered only when the sweep is not uniform
     bool uniformSweep = false;                        // one friction type, one mass: no per-particle parameters
     double uniformInverseMass = 0.0;
+    bool forcesStaySorted = false;                    // keepForcesSorted: the search's forces stay in sortedForces (a small grid's two parts summed there)
     CpuDPDHugePages hugePages;                        // OpenMM's arrays, which the engine reads and writes at random
     bool smallGrid = false;                           // one block per colour (findPairs)
     std::vector<OpenMM::Vec3> secondPartForces;       // a small grid's second search part's forces (sorted order)

@@ -233,8 +233,11 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
             if (repulsion == nullptr)
                 return;
             barrier.wait();
-            if (thread == 0) // the two parts' sums, in part order, by the thread that goes on with these forces; the
-                for (int s = 0; s < numParticles; s++) // other's part is read in order, which the processor prefetches
+            if (thread == 0 && forcesStaySorted) // the two parts' sums, in part order, by the thread that sweeps next
+                for (int s = 0; s < numParticles; s++)
+                    sortedForces[s] += secondPartForces[s];
+            else if (thread == 0) // the same, by the thread that goes on with these forces; the other's part is read in
+                for (int s = 0; s < numParticles; s++) // order, which the processor prefetches
                     (*forces)[grid.sortedToOriginal[s]] += sortedForces[s]+secondPartForces[s];
             return;
         }
@@ -251,7 +254,7 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
             if (repulsion != nullptr) // the forces of one colour's cells touch no particle twice
                 barrier.wait();
         }
-        if (repulsion != nullptr) // every colour's forces are in (the barrier above)
+        if (repulsion != nullptr && !forcesStaySorted) // every colour's forces are in (the barrier above)
             grid.forEachLocatedParticle(thread, [&](int i, int s) { (*forces)[i] += sortedForces[s]; });
     });
     for (int bad : nonFinite)
@@ -261,6 +264,11 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
     for (int cell : grid.cellsInSweepOrder)
         energy += cellSum[cell];
     return energy;
+}
+
+void CpuDPDPairEngine::addKeptForcesTo(std::vector<Vec3>& forces) {
+    for (int s = 0, n = static_cast<int>(grid.sortedToOriginal.size()); s < n; s++)
+        forces[grid.sortedToOriginal[s]] += sortedForces[s];
 }
 
 void CpuDPDPairEngine::searchSmallGridParts(int thread, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion) {
@@ -448,9 +456,21 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
     if (response != nullptr)
         sortedResponse.resize(original.size());
+    // ABOBA's first kick in the gather, its second in the scatter (DPDPairSweep::flankingKick), each
+    // v += F (dt/m) as DPDPairEngine::kickVelocity takes it, with the forces of this engine's search.
+    const double kickDt = sweep.flankingKick;
+    const double* inverseMass = sweep.inverseMasses.data();
+    auto kickOf = [&](int s, int original) {
+        return sortedForces[s]*(kickDt*(sweep.uniformInverseMass ? inverseMass[0] : inverseMass[original]));
+    };
+    std::vector<char> finite(kickDt != 0.0 ? numThreads : 0, 1);
     auto gather = [&](int begin, int end) {
-        for (int s = begin; s < end; s++)
-            sortedVelocities[s] = velocities[original[s]];
+        if (kickDt != 0.0)
+            for (int s = begin; s < end; s++)
+                sortedVelocities[s] = velocities[original[s]]+kickOf(s, original[s]);
+        else
+            for (int s = begin; s < end; s++)
+                sortedVelocities[s] = velocities[original[s]];
         if (response != nullptr)
             for (int s = begin; s < end; s++)
                 sortedResponse[s] = (*response)[original[s]];
@@ -500,8 +520,23 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
                     sweepCell(std::false_type(), pairs, cell, cellPairBegin[cell], cellPairEnd[cell], *runs[run].block, runs[run].pairBegin);
             }
     };
-    auto scatter = [&](int thread) { grid.forEachLocatedParticle(thread, [&](int i, int s) { velocities[i] = sortedVelocities[s]; }); };
+    auto scatter = [&](int thread) {
+        if (kickDt == 0.0) {
+            grid.forEachLocatedParticle(thread, [&](int i, int s) { velocities[i] = sortedVelocities[s]; });
+            return;
+        }
+        bool allFinite = true;
+        grid.forEachLocatedParticle(thread, [&](int i, int s) {
+            Vec3 v = sortedVelocities[s];
+            allFinite &= DPDPairEngine::kickVelocity(v, sortedForces[s], kickDt*(sweep.uniformInverseMass ? inverseMass[0] : inverseMass[i]));
+            velocities[i] = v;
+        });
+        finite[thread] &= allFinite;
+    };
     sweepByColor(sweep, kind, gather, apply, scatter);
+    if (sweep.velocitiesFinite != nullptr)
+        for (char each : finite)
+            *sweep.velocitiesFinite &= each != 0;
     sumCellStress(sweep);
     double responseOfDissipation = 0.0;
     if (response != nullptr)

@@ -53,6 +53,14 @@ struct DPDPairSweep {
     std::uint64_t randomKey;
     double shearRate = 0.0;
     DPDPairStressSums* stress = nullptr;
+    /**
+     * ABOBA's kicks B(h/2) on either side of its O sweep (eqs. 2.20, 2.23), in the sweep's own passes:
+     * v += F flankingKick/m before and after, F being the conservative forces of the engine's latest
+     * search, which then need not reach the Context (keepForcesSorted).  0: no kicks.  With kicks, the
+     * sweep clears *velocitiesFinite if a velocity is not finite after them.
+     */
+    double flankingKick = 0.0;
+    bool* velocitiesFinite = nullptr;
 };
 
 /**
@@ -98,6 +106,15 @@ public:
      * default runs body(0, count).
      */
     virtual void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) { body(0, count); }
+    /**
+     * Engines that can fuse ABOBA's kicks into the O sweep (DPDPairSweep::flankingKick) with the forces
+     * of their own search.  keepForcesSorted(true): the next searches keep the conservative forces in
+     * the engine instead of adding them to the given forces; addKeptForcesTo adds the latest search's
+     * kept forces there after all (when the step does not sweep with this engine after all).
+     */
+    virtual bool supportsFlankingKicks() const { return false; }
+    virtual void keepForcesSorted(bool keep) {}
+    virtual void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) {}
     /** One particle's B step, v += F dtOverMass (dtOverMass = dt/m, 0 for a massless particle); returns whether v is then finite. */
     static bool kickVelocity(OpenMM::Vec3& velocity, const OpenMM::Vec3& force, double dtOverMass) {
         velocity += force*dtOverMass;

@@ -95,8 +95,13 @@ private:
     bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, double dt, bool keepForces = false);
     /** Keep a copy of the forces for the next step (VV, S1), on the engine's threads. */
     void storeForces(const std::vector<OpenMM::Vec3>& forces);
-    /** Evaluate the Context's forces at its current positions and return the engine holding the pairs at those positions. */
-    DPDPairEngine& evaluateForcesAndPairs(OpenMM::ContextImpl& context);
+    /**
+     * Evaluate the Context's forces at its current positions and return the engine holding the pairs at
+     * those positions.  With `forcesForFlankingKicks` (ABOBA), the one DPDForce's engine may keep its
+     * forces for the O sweep's kicks instead: returns whether it did (the Context's forces are then not
+     * evaluated) and the pairs are its.
+     */
+    DPDPairEngine& evaluateForcesAndPairs(OpenMM::ContextImpl& context, bool* forcesForFlankingKicks = nullptr);
     /** The parameters of the next pair sweep over a sub-step dt (each sweep draws new random numbers). */
     DPDPairSweep nextSweep(double dt, DPDPairStressSums* stressSums = nullptr) {
         return {friction, inverseMasses, uniformInverseMass, kT, dt, random.sweepKey(sweepCounter++), leesEdwards.getShearRate(), stressSums};
@@ -130,6 +135,10 @@ private:
     std::vector<OpenMM::ForceImpl*> integratedForceImpls;
     bool contextEvaluatedForces = false;
     std::unique_ptr<DPDPairEngine> ownEngine;
+    // When the integrated forces are one DPDForce whose engine can fuse kicks into the O sweep, ABOBA's
+    // B O B is one sweep with the forces kept in that engine (saves a pass over the particles for each
+    // kick and the forces' way into the Context and back).
+    DPDPairEngine* flankingKicksEngine = nullptr;
     DPDPairEngine* pairsAtCurrentPositions = nullptr; // the engine holding the pairs at the current positions
 
     // Transport (NEMD, Norton): the profile's fields at the latest positions, and the running sums.

@@ -127,6 +127,9 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
             break;
         }
     }
+    if (sharedForceKernel != nullptr && forcesFromDPDForcesAlone && integratedForceImpls.size() == 1 &&
+        sharedForceKernel->getPairEngine().supportsFlankingKicks())
+        flankingKicksEngine = &sharedForceKernel->getPairEngine();
 }
 
 int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>& positions, std::vector<Vec3>& velocities,
@@ -243,19 +246,30 @@ void DPDSplittingDynamics::storeForces(const std::vector<Vec3>& forces) {
     });
 }
 
-DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context) {
+DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context, bool* forcesForFlankingKicks) {
     long long evaluationsBefore = sharedForceKernel ? sharedForceKernel->getEvaluationCount() : 0;
+    bool keepForces = forcesForFlankingKicks != nullptr && flankingKicksEngine != nullptr && !friction.allValuesZero;
+    if (forcesForFlankingKicks != nullptr)
+        *forcesForFlankingKicks = false;
     if (forcesFromDPDForcesAlone && contextEvaluatedForces) {
         // What the Context's evaluation does for these forces: clear, then each adds its own.  The
         // first evaluation goes through the Context, which checks that positions have been set.
         std::vector<Vec3>& forces = arrays(context).forces;
-        ownEngine->forEachParticleRange(static_cast<int>(forces.size()), [&](int begin, int end) {
-            std::fill(forces.begin()+begin, forces.begin()+end, Vec3());
-        });
+        if (!keepForces)
+            ownEngine->forEachParticleRange(static_cast<int>(forces.size()), [&](int begin, int end) {
+                std::fill(forces.begin()+begin, forces.begin()+end, Vec3());
+            });
+        if (keepForces)
+            flankingKicksEngine->keepForcesSorted(true);
         for (OpenMM::ForceImpl* impl : integratedForceImpls)
             impl->calcForcesAndEnergy(context, true, false, integrationGroups);
+        if (keepForces) {
+            flankingKicksEngine->keepForcesSorted(false);
+            *forcesForFlankingKicks = true;
+        }
     }
     else {
+        keepForces = false;
         context.calcForcesAndEnergy(true, false, integrationGroups);
         contextEvaluatedForces = true;
     }
@@ -269,6 +283,12 @@ DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl&
         DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, state.box);
         ownEngine->findPairs(state.positions, state.box, friction.maxCutoff, nullptr, nullptr);
         pairsAtCurrentPositions = ownEngine.get();
+    }
+    if (keepForces && pairsAtCurrentPositions != flankingKicksEngine) { // the O sweep is another engine's: the forces go to the Context
+        std::vector<Vec3>& forces = arrays(context).forces;
+        std::fill(forces.begin(), forces.end(), Vec3());
+        flankingKicksEngine->addKeptForcesTo(forces);
+        *forcesForFlankingKicks = false;
     }
     return *pairsAtCurrentPositions;
 }
@@ -318,7 +338,23 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.19
         throwNonFinite(context, "positions", particle);
     moveImages(context, 0.5*dt);                                                // Lees-Edwards offset at t + h/2 (h/2 < h: no wrap)
-    DPDPairEngine& pairs = evaluateForcesAndPairs(context);                 // the one force evaluation, at q^{n+1/2}
+    bool flankingKicks = false;
+    DPDPairEngine& pairs = evaluateForcesAndPairs(context, nemd ? nullptr : &flankingKicks); // the one force evaluation, at q^{n+1/2}
+    if (flankingKicks) { // B(dt/2) O(dt) B(dt/2), eqs. 2.20-2.23, in the sweep's passes; then A(dt/2), eq. 2.24
+        bool velocitiesFinite = true;
+        DPDPairSweep sweep = nextSweep(dt, pairStressOfStep());
+        sweep.flankingKick = 0.5*dt;
+        sweep.velocitiesFinite = &velocitiesFinite;
+        pairs.applyPairwiseOrnsteinUhlenbeck(sweep, state.velocities, nullptr);
+        int unsound = drift(context, state.positions, state.velocities, 0.5*dt);
+        if (!velocitiesFinite)
+            throwNonFinite(context, "velocities");
+        if (unsound >= 0)
+            throwNonFinite(context, "positions", unsound);
+        moveImages(context, dt);
+        forceAtCurrentPositionsValid = false;
+        return;
+    }
     double eta = integrator.getForcingStrength();
     if (nemd)
         evaluateForcingFields(integrator, state.positions, state.box);          // F(q^{n+1/2}) of eq. 6
