@@ -338,38 +338,34 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.19
         throwNonFinite(context, "positions", particle);
     moveImages(context, 0.5*dt);                                                // Lees-Edwards offset at t + h/2 (h/2 < h: no wrap)
-    bool flankingKicks = false;
+    bool flankingKicks = false; // B O B in the sweep's own passes, with the forces its engine kept (DPDPairSweep::flankingKick)
     DPDPairEngine& pairs = evaluateForcesAndPairs(context, nemd ? nullptr : &flankingKicks); // the one force evaluation, at q^{n+1/2}
-    if (flankingKicks) { // B(dt/2) O(dt) B(dt/2), eqs. 2.20-2.23, in the sweep's passes; then A(dt/2), eq. 2.24
+    double eta = integrator.getForcingStrength();
+    KickFirst lastKick{state.forces, 0.5*dt};                                   // B(dt/2), eq. 2.23
+    if (flankingKicks) {                                                        // B(dt/2) O(dt) B(dt/2), eqs. 2.20-2.23
         bool velocitiesFinite = true;
         DPDPairSweep sweep = nextSweep(dt, pairStressOfStep());
         sweep.flankingKick = 0.5*dt;
         sweep.velocitiesFinite = &velocitiesFinite;
         pairs.applyPairwiseOrnsteinUhlenbeck(sweep, state.velocities, nullptr);
-        int unsound = drift(context, state.positions, state.velocities, 0.5*dt);
-        if (!velocitiesFinite)
-            throwNonFinite(context, "velocities");
-        if (unsound >= 0)
-            throwNonFinite(context, "positions", unsound);
-        moveImages(context, dt);
-        forceAtCurrentPositionsValid = false;
-        return;
+        lastKick.velocitiesFinite.store(velocitiesFinite);
     }
-    double eta = integrator.getForcingStrength();
-    if (nemd)
-        evaluateForcingFields(integrator, state.positions, state.box);          // F(q^{n+1/2}) of eq. 6
-    kick(state.velocities, state.forces, 0.5*dt);                               // B(dt/2), eq. 2.20
-    if (nemd)
-        applyForcingImpulse(0.5*dt*eta, state.velocities);                      // + eta F dt/2 (NEMD's B, eq. 17)
-    if (!friction.allValuesZero)
-        pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
-    KickFirst lastKick{state.forces, 0.5*dt};                                   // B(dt/2), eq. 2.23
-    if (nemd) {
-        if (!kick(state.velocities, state.forces, 0.5*dt))
-            lastKick.velocitiesFinite.store(false);
-        applyForcingImpulse(0.5*dt*eta, state.velocities);
+    else {
+        if (nemd)
+            evaluateForcingFields(integrator, state.positions, state.box);      // F(q^{n+1/2}) of eq. 6
+        kick(state.velocities, state.forces, 0.5*dt);                           // B(dt/2), eq. 2.20
+        if (nemd)
+            applyForcingImpulse(0.5*dt*eta, state.velocities);                  // + eta F dt/2 (NEMD's B, eq. 17)
+        if (!friction.allValuesZero)
+            pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
+        if (nemd) {
+            if (!kick(state.velocities, state.forces, 0.5*dt))
+                lastKick.velocitiesFinite.store(false);
+            applyForcingImpulse(0.5*dt*eta, state.velocities);
+        }
     }
-    int unsound = drift(context, state.positions, state.velocities, 0.5*dt, nemd ? nullptr : &lastKick); // A(dt/2), eq. 2.24
+    bool kickInDrift = !nemd && !flankingKicks;
+    int unsound = drift(context, state.positions, state.velocities, 0.5*dt, kickInDrift ? &lastKick : nullptr); // A(dt/2), eq. 2.24
     if (!lastKick.velocitiesFinite.load())
         throwNonFinite(context, "velocities");
     if (unsound >= 0)
