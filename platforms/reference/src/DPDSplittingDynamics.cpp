@@ -259,14 +259,20 @@ DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl&
             ownEngine->forEachParticleRange(static_cast<int>(forces.size()), [&](int begin, int end) {
                 std::fill(forces.begin()+begin, forces.begin()+end, Vec3());
             });
+        // Only for this evaluation, even if it throws: any other (a State's forces) must reach the Context.
+        struct KeepForcesSorted {
+            DPDPairEngine* engine;
+            ~KeepForcesSorted() {
+                if (engine != nullptr)
+                    engine->keepForcesSorted(false);
+            }
+        } keeping{keepForces ? flankingKicksEngine : nullptr};
         if (keepForces)
             flankingKicksEngine->keepForcesSorted(true);
         for (OpenMM::ForceImpl* impl : integratedForceImpls)
             impl->calcForcesAndEnergy(context, true, false, integrationGroups);
-        if (keepForces) {
-            flankingKicksEngine->keepForcesSorted(false);
+        if (keepForces)
             *forcesForFlankingKicks = true;
-        }
     }
     else {
         keepForces = false;
