@@ -452,6 +452,7 @@ void CpuDPDPairEngine::sumCellStress(const DPDPairSweep& sweep) {
 double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, std::vector<Vec3>& velocities,
                                          const std::vector<Vec3>* response) {
     const std::vector<int>& original = grid.sortedToOriginal;
+    int numParticles = static_cast<int>(original.size());
     sortedVelocities.resize(original.size());
     hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
     if (response != nullptr)
@@ -526,6 +527,18 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             return;
         }
         bool allFinite = true;
+        if (numThreads > 1 && !smallGrid) {
+            // Each thread scatters the particles it located, whose sorted entries the other threads
+            // swept: the second kick first, on the thread's own sorted range (read in order, in its
+            // cache), so that the scatter reads no forces across the threads.
+            for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
+                allFinite &= DPDPairEngine::kickVelocity(sortedVelocities[s], sortedForces[s],
+                                                         kickDt*(sweep.uniformInverseMass ? inverseMass[0] : inverseMass[original[s]]));
+            finite[thread] &= allFinite;
+            barrier.wait();
+            grid.forEachLocatedParticle(thread, [&](int i, int s) { velocities[i] = sortedVelocities[s]; });
+            return;
+        }
         grid.forEachLocatedParticle(thread, [&](int i, int s) {
             Vec3 v = sortedVelocities[s];
             allFinite &= DPDPairEngine::kickVelocity(v, sortedForces[s], kickDt*(sweep.uniformInverseMass ? inverseMass[0] : inverseMass[i]));
