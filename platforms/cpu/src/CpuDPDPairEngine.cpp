@@ -460,15 +460,12 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     // ABOBA's first kick in the gather, its second in the scatter (DPDPairSweep::flankingKick), each
     // v += F (dt/m) as DPDPairEngine::kickVelocity takes it, with the forces of this engine's search.
     const double kickDt = sweep.flankingKick;
-    const double* inverseMass = sweep.inverseMasses.data();
-    auto kickOf = [&](int s, int original) {
-        return sortedForces[s]*(kickDt*(sweep.uniformInverseMass ? inverseMass[0] : inverseMass[original]));
-    };
+    auto kickDtOverMass = [&](int particle) { return kickDt*sweep.inverseMasses[sweep.uniformInverseMass ? 0 : particle]; };
     std::vector<char> finite(kickDt != 0.0 ? numThreads : 0, 1);
     auto gather = [&](int begin, int end) {
         if (kickDt != 0.0)
             for (int s = begin; s < end; s++)
-                sortedVelocities[s] = velocities[original[s]]+kickOf(s, original[s]);
+                sortedVelocities[s] = velocities[original[s]]+sortedForces[s]*kickDtOverMass(original[s]);
         else
             for (int s = begin; s < end; s++)
                 sortedVelocities[s] = velocities[original[s]];
@@ -532,8 +529,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             // swept: the second kick first, on the thread's own sorted range (read in order, in its
             // cache), so that the scatter reads no forces across the threads.
             for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
-                allFinite &= DPDPairEngine::kickVelocity(sortedVelocities[s], sortedForces[s],
-                                                         kickDt*(sweep.uniformInverseMass ? inverseMass[0] : inverseMass[original[s]]));
+                allFinite &= DPDPairEngine::kickVelocity(sortedVelocities[s], sortedForces[s], kickDtOverMass(original[s]));
             finite[thread] &= allFinite;
             barrier.wait();
             grid.forEachLocatedParticle(thread, [&](int i, int s) { velocities[i] = sortedVelocities[s]; });
@@ -541,7 +537,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
         }
         grid.forEachLocatedParticle(thread, [&](int i, int s) {
             Vec3 v = sortedVelocities[s];
-            allFinite &= DPDPairEngine::kickVelocity(v, sortedForces[s], kickDt*(sweep.uniformInverseMass ? inverseMass[0] : inverseMass[i]));
+            allFinite &= DPDPairEngine::kickVelocity(v, sortedForces[s], kickDtOverMass(i));
             velocities[i] = v;
         });
         finite[thread] &= allFinite;
