@@ -457,15 +457,16 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
     if (response != nullptr)
         sortedResponse.resize(original.size());
-    // ABOBA's first kick in the gather, its second in the scatter (DPDPairSweep::flankingKick), each
-    // v += F (dt/m) as DPDPairEngine::kickVelocity takes it, with the forces of this engine's search.
+    // ABOBA's first kick in the gather, its second in the scatter (DPDPairSweep::flankingKick), with the forces of this engine's search.
     const double kickDt = sweep.flankingKick;
     auto kickDtOverMass = [&](int particle) { return kickDt*sweep.inverseMasses[sweep.uniformInverseMass ? 0 : particle]; };
     std::vector<char> finite(kickDt != 0.0 ? numThreads : 0, 1);
     auto gather = [&](int begin, int end) {
         if (kickDt != 0.0)
-            for (int s = begin; s < end; s++)
-                sortedVelocities[s] = velocities[original[s]]+sortedForces[s]*kickDtOverMass(original[s]);
+            for (int s = begin; s < end; s++) {
+                sortedVelocities[s] = velocities[original[s]];
+                DPDPairEngine::kickVelocity(sortedVelocities[s], sortedForces[s], kickDtOverMass(original[s])); // checked after the second kick
+            }
         else
             for (int s = begin; s < end; s++)
                 sortedVelocities[s] = velocities[original[s]];
@@ -525,9 +526,8 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
         }
         bool allFinite = true;
         if (numThreads > 1 && !smallGrid) {
-            // Each thread scatters the particles it located, whose sorted entries the other threads
-            // swept: the second kick first, on the thread's own sorted range (read in order, in its
-            // cache), so that the scatter reads no forces across the threads.
+            // The second kick first, on the thread's own sorted range (in its cache): the scatter of the
+            // particles it located then reads no forces that another thread swept.
             for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
                 allFinite &= DPDPairEngine::kickVelocity(sortedVelocities[s], sortedForces[s], kickDtOverMass(original[s]));
             finite[thread] &= allFinite;

@@ -248,9 +248,9 @@ void DPDSplittingDynamics::storeForces(const std::vector<Vec3>& forces) {
 
 DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context, bool* forcesForFlankingKicks) {
     long long evaluationsBefore = sharedForceKernel ? sharedForceKernel->getEvaluationCount() : 0;
-    bool keepForces = forcesForFlankingKicks != nullptr && flankingKicksEngine != nullptr && !friction.allValuesZero;
-    if (forcesForFlankingKicks != nullptr)
-        *forcesForFlankingKicks = false;
+    // Only in the direct evaluation (the first goes through the Context).
+    bool keepForces = forcesForFlankingKicks != nullptr && flankingKicksEngine != nullptr && !friction.allValuesZero &&
+                      forcesFromDPDForcesAlone && contextEvaluatedForces;
     if (forcesFromDPDForcesAlone && contextEvaluatedForces) {
         // What the Context's evaluation does for these forces: clear, then each adds its own.  The
         // first evaluation goes through the Context, which checks that positions have been set.
@@ -271,11 +271,8 @@ DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl&
             flankingKicksEngine->keepForcesSorted(true);
         for (OpenMM::ForceImpl* impl : integratedForceImpls)
             impl->calcForcesAndEnergy(context, true, false, integrationGroups);
-        if (keepForces)
-            *forcesForFlankingKicks = true;
     }
     else {
-        keepForces = false;
         context.calcForcesAndEnergy(true, false, integrationGroups);
         contextEvaluatedForces = true;
     }
@@ -290,11 +287,12 @@ DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl&
         ownEngine->findPairs(state.positions, state.box, friction.maxCutoff, nullptr, nullptr);
         pairsAtCurrentPositions = ownEngine.get();
     }
+    if (forcesForFlankingKicks != nullptr)
+        *forcesForFlankingKicks = keepForces && pairsAtCurrentPositions == flankingKicksEngine;
     if (keepForces && pairsAtCurrentPositions != flankingKicksEngine) { // the O sweep is another engine's: the forces go to the Context
         std::vector<Vec3>& forces = arrays(context).forces;
         std::fill(forces.begin(), forces.end(), Vec3());
         flankingKicksEngine->addKeptForcesTo(forces);
-        *forcesForFlankingKicks = false;
     }
     return *pairsAtCurrentPositions;
 }
