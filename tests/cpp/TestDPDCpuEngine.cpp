@@ -355,15 +355,17 @@ TEST(CpuPairEngine, OwnPairsAndNortonAreBitIdenticalAcrossThreadCounts) {
 }
 
 TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
-    // With one DPDForce, ABOBA's B(h/2) O B(h/2) is one sweep that kicks in its gather and scatter with
-    // the forces the DPDForce's engine kept (DPDPairSweep::flankingKick).  A second DPDForce of zero
+    // With one DPDForce, the engine keeps its conservative forces and the schemes kick in its passes:
+    // ABOBA's B(h/2) O B(h/2) is one sweep that kicks in its gather and scatter
+    // (DPDPairSweep::flankingKick), VV's and S1's closing kick is the forces' one way to System order
+    // (DPDPairEngine::kickWithKeptForces, VV's F^D + F^R swept on the way).  A second DPDForce of zero
     // strength changes no force but makes the step take the separate kicks, the forces going through the
     // Context: the same bits.  In a small box (one block per colour, the search in two parts) and a
     // larger one, on 1 and 2 threads, with masses that differ between particles, and with the friction
     // cutoff raised past the DPDForce's once bound (the integrator's own pairs then: the kept forces
     // reach the Context after all).
-    auto run = [](const System& system, const EquilibratedFluid& start, double frictionCutoff, int threads) {
-        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, "ABOBA");
+    auto run = [](const System& system, const EquilibratedFluid& start, const std::string& scheme, double frictionCutoff, int threads) {
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
         integrator.setRandomNumberSeed(5);
         Context context(system, integrator, platform("CPU"), {{"Threads", std::to_string(threads)}});
         integrator.setDefaultCutoff(frictionCutoff);
@@ -378,35 +380,56 @@ TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
             start.fluid.system->setParticleMass(i, 2.0);
         std::unique_ptr<System> withZeroForce(XmlSerializer::clone<System>(*start.fluid.system));
         withZeroForce->addForce(new DPDForce(0.0, 0.5));
-        for (double frictionCutoff : {1.0, 1.2})
-            for (int threads : {1, 2}) {
-                SCOPED_TRACE(std::to_string(n) + " particles, friction cutoff " + std::to_string(frictionCutoff) + ", " +
-                             std::to_string(threads) + " threads");
-                Snapshot result[2] = {run(*start.fluid.system, start, frictionCutoff, threads), run(*withZeroForce, start, frictionCutoff, threads)};
-                EXPECT_TRUE(bitIdentical(result[0], result[1]));
-                EXPECT_GT(maxAbsDifference(result[0].positions, start.fluid.positions), 0.01);
-            }
+        for (const char* scheme : {"ABOBA", "VV", "S1"})
+            for (double frictionCutoff : {1.0, 1.2})
+                for (int threads : {1, 2}) {
+                    SCOPED_TRACE(std::string(scheme) + ", " + std::to_string(n) + " particles, friction cutoff " +
+                                 std::to_string(frictionCutoff) + ", " + std::to_string(threads) + " threads");
+                    Snapshot result[2] = {run(*start.fluid.system, start, scheme, frictionCutoff, threads),
+                                          run(*withZeroForce, start, scheme, frictionCutoff, threads)};
+                    EXPECT_TRUE(bitIdentical(result[0], result[1]));
+                    EXPECT_GT(maxAbsDifference(result[0].positions, start.fluid.positions), 0.01);
+                }
     }
 }
 
 TEST(CpuPairEngine, FusedKicksCatchANonFiniteVelocity) {
-    // A particle of mass 1e-300 is kicked to an infinite velocity: the sweep's scatter reports it, and
-    // the step throws before any position is kept from it.
-    for (int n : {500, 3000}) {
-        EquilibratedFluid start = equilibratedSoftFluid(n, 3.0, 10);
-        start.fluid.system->setParticleMass(7, 1e-300);
-        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, "ABOBA");
-        Context context(*start.fluid.system, integrator, platform("CPU"), {{"Threads", "2"}});
-        context.setPositions(start.fluid.positions);
-        context.setVelocities(start.velocities);
-        try {
-            integrator.step(5);
-            ADD_FAILURE() << n << " particles: no exception";
-        }
-        catch (const OpenMMException& e) {
-            EXPECT_NE(std::string(e.what()).find("non-finite or runaway velocities at step 1 (scheme ABOBA"), std::string::npos) << e.what();
-        }
-    }
+    // A particle of mass 1e-300 is kicked to an infinite velocity.  ABOBA: the sweep's scatter reports
+    // it, and the step throws before any position is kept from it.  VV and S1: the particle starts at
+    // rest with no neighbour within the cutoff (its neighbours pushed out to 1.02 nm), so the first
+    // evaluation gives it no force and the first kick and drift leave it in place; the fluid moves in
+    // during the step, and the closing kick with the kept forces (the first kick of a fused kind) reports it.
+    for (const char* scheme : {"ABOBA", "VV", "S1"})
+        for (int n : {500, 3000})
+            for (int threads : {1, 2}) {
+                SCOPED_TRACE(std::string(scheme) + ", " + std::to_string(n) + " particles, " + std::to_string(threads) + " threads");
+                EquilibratedFluid start = equilibratedSoftFluid(n, 3.0, 10);
+                const int light = 7;
+                start.fluid.system->setParticleMass(light, 1e-300);
+                start.velocities[light] = Vec3();
+                Vec3 box[3];
+                start.fluid.system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+                for (int j = 0; j < n; j++) {
+                    Vec3 d = start.fluid.positions[j]-start.fluid.positions[light];
+                    for (int axis = 0; axis < 3; axis++)
+                        d[axis] -= box[axis][axis]*std::round(d[axis]/box[axis][axis]);
+                    double r = std::sqrt(d.dot(d));
+                    if (j != light && r < 1.02)
+                        start.fluid.positions[j] = start.fluid.positions[light]+d*(1.02/r);
+                }
+                DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
+                Context context(*start.fluid.system, integrator, platform("CPU"), {{"Threads", std::to_string(threads)}});
+                context.setPositions(start.fluid.positions);
+                context.setVelocities(start.velocities);
+                try {
+                    integrator.step(5);
+                    ADD_FAILURE() << "no exception";
+                }
+                catch (const OpenMMException& e) {
+                    std::string expected = std::string("non-finite or runaway velocities at step 1 (scheme ")+scheme;
+                    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+                }
+            }
 }
 
 TEST(CpuPairEngine, NonFinitePositionIsRefusedNotBinned) {

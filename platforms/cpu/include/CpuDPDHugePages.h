@@ -15,7 +15,7 @@ namespace OpenMMDPD {
  */
 class CpuDPDHugePages {
 public:
-    enum Array { Positions, Velocities, Forces, numArrays };
+    enum Array { Positions, Velocities, Forces, StoredForces, numArrays }; // StoredForces: an integrator's copy of the forces (VV, S1)
     /** Advise [data, data + bytes) as array `array`, unless it was the last range advised as that array. */
     void advise(Array array, const void* data, std::size_t bytes);
 

@@ -2,6 +2,8 @@
 #define OPENMMDPD_CPUDPDPAIRENGINE_H_
 
 #include "CpuDPDBlockQueue.h"
+#include "CpuDPDCandidateSet.h"
+#include "CpuDPDCellStress.h"
 #include "CpuDPDCellGrid.h"
 #include "CpuDPDHugePages.h"
 #include "CpuDPDSweepPipeline.h"
@@ -48,9 +50,11 @@ public:
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
-    bool supportsFlankingKicks() const override { return true; }
+    bool canKeepForces() const override { return true; }
     void keepForcesSorted(bool keep) override { forcesStaySorted = keep; }
     void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) override;
+    bool kickWithKeptForces(const DPDPairSweep* dissipativeAndRandom, double dt, const std::vector<double>& inverseMasses,
+                            std::vector<OpenMM::Vec3>& velocities, std::vector<OpenMM::Vec3>& storedForces) override;
     /** On the engine's threads when every thread gets enough particles to pay for the hand-over; else at once. */
     void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) override;
 
@@ -65,23 +69,12 @@ private:
         std::vector<int> i, j;
         void reserveMore(std::size_t count);
     };
-    /** A thread's scratch for one cell: its half stencil's particles at their shifted positions, the distance filter's hits, the cell's pair geometry. */
-    struct alignas(64) CandidateSet {
-        int* index = nullptr;
-        double *x = nullptr, *y = nullptr, *z = nullptr, *ex = nullptr, *ey = nullptr, *ez = nullptr, *forceMagnitude = nullptr;
-        void resize(int count, std::size_t maxPairs);
-
-    private:
-        int candidateCapacity = -1;
-        std::size_t pairCapacity = 0;
-        std::vector<double> storage; // every array above, each starting at its own offset within a 4 KiB page
-    };
     /** Run body(thread) on every thread (directly when there is one). */
     void onThreads(const std::function<void(int)>& body);
     /** Give a thread its share of a colour's blocks in blockQueue: about 1/numThreads of the colour's cells. */
     void shareBlocksOfColor(int color, int thread);
     /** Find the pairs of a cell into `buffer`; with `repulsion`, add their conservative forces to sortedForces (sorted order). */
-    void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates,
+    void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CpuDPDCandidateSet& candidates,
                     OpenMM::Vec3* sortedForces);
     /** A small grid's search (one block per colour): thread t searches part t (both parts with one thread). */
     void searchSmallGridParts(int thread, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion);
@@ -125,11 +118,12 @@ private:
      */
     double sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, std::vector<OpenMM::Vec3>& velocities,
                            const std::vector<OpenMM::Vec3>* response);
-    /** The stress sums of one cell, cleared, when the sweep gathers stress; else null. */
-    DPDPairStressSums* cellStressOf(const DPDPairSweep& sweep, int cell);
-    static void addPairStress(DPDPairStressSums& sums, double r, const OpenMM::Vec3& e, double dissipative, double random);
-    /** Add the cells' stress sums to the sweep's, in sweep order. */
-    void sumCellStress(const DPDPairSweep& sweep);
+    /**
+     * VV's sweep: F^D + F^R at these velocities into sortedResult (sorted order, from zero), then
+     * scatter(thread) for each thread's located particles.
+     */
+    void sweepDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
+                                         std::vector<OpenMM::Vec3>& sortedResult, const ScatterTask& scatter);
 
     std::shared_ptr<CpuDPDThreadTeam> threads;
     int numThreads;
@@ -137,15 +131,16 @@ private:
     CpuDPDCellGrid grid;
     double radius = 0.0;
     std::vector<PairBuffer> buffers;                 // one per thread
-    std::vector<CandidateSet> candidateSets;          // one per thread
+    std::vector<CpuDPDCandidateSet> candidateSets;    // one per thread
     CpuDPDBlockQueue blockQueue;                      // a colour's blocks, shared among the threads
     std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its searching thread's buffer
     std::vector<int> cellBuffer;                      // the thread that searched a cell (its buffer holds the pairs)
     std::vector<CpuDPDPairUpdateBlock> blocks;        // per thread, one per stream of runs
-    std::vector<DPDPairStressSums> cellStress;        // per-cell pair stress sums of a sweep that gathers stress
+    CpuDPDCellStress cellStress;                      // per-cell pair stress sums of a sweep that gathers stress
     std::vector<int> nonFinite;                       // per thread: the first particle found with a non-finite position, or -1
     std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order
     std::vector<OpenMM::Vec3> sortedForces, sortedVelocities, sortedResponse;
+    std::vector<OpenMM::Vec3> sortedDissipativeAndRandomForces; // VV's, while sortedForces holds the kept conservative forces
     std::vector<int> sortedRepulsionType, sortedFrictionType;
     std::vector<double> inverseRepulsionCutoff;       // 1/r_c per type pair of the DPDForce being evaluated
     std::vector<double> sortedInverseMass;            // gathered only when the sweep is not uniform

@@ -20,35 +20,6 @@ void CpuDPDPairEngine::PairBuffer::reserveMore(std::size_t count) {
     j.resize(capacity);
 }
 
-void CpuDPDPairEngine::CandidateSet::resize(int count, std::size_t maxPairs) {
-    if (count+8 <= candidateCapacity && maxPairs+16 <= pairCapacity)
-        return;
-    // +8: the candidates are copied 8 at a time; +16: the force pass pads the pairs to whole vectors.
-    candidateCapacity = std::max(candidateCapacity, 2*count+8);
-    pairCapacity = std::max(pairCapacity, 2*maxPairs+16);
-    // One allocation, each array at a different offset within a 4 KiB page (448 bytes apart): the filter
-    // reads candidates while it stores hits, and a load at the same page offset as a pending store
-    // waits for it (4K aliasing).  Left to the allocator, the offsets differed from thread to thread
-    // and so did the search's speed, by up to 15 %.
-    const std::size_t page = 4096/sizeof(double), stagger = 448/sizeof(double);
-    std::size_t arrays = 8, longest = std::max(static_cast<std::size_t>(candidateCapacity), pairCapacity);
-    std::size_t stride = (longest+stagger+page-1)/page*page+stagger;
-    storage.resize(arrays*stride+page);
-    double* base = storage.data();
-    base += (page-(reinterpret_cast<std::uintptr_t>(base)/sizeof(double))%page)%page;
-    double* region[8];
-    for (std::size_t k = 0; k < arrays; k++)
-        region[k] = base+k*stride;
-    x = region[0];
-    y = region[1];
-    z = region[2];
-    index = reinterpret_cast<int*>(region[3]);
-    ex = region[4];
-    ey = region[5];
-    ez = region[6];
-    forceMagnitude = region[7];
-}
-
 CpuDPDPairEngine::CpuDPDPairEngine(int numThreads)
     : threads(CpuDPDThreadTeam::shared(numThreads)), numThreads(numThreads), barrier(numThreads), buffers(numThreads),
       candidateSets(numThreads), blocks(numStreams*numThreads) {}
@@ -99,7 +70,7 @@ constexpr std::size_t padding = 8;
 } // namespace
 
 __attribute__((target_clones("avx512f", "avx2", "default")))
-void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CandidateSet& candidates,
+void CpuDPDPairEngine::searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CpuDPDCandidateSet& candidates,
                                   Vec3* sortedForces) {
     // The candidates of every particle of this cell are the particles of its half stencil, seen
     // through their lattice shifts, in one contiguous array: the cell's own particles first (a
@@ -388,8 +359,7 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
     int numParticles = static_cast<int>(grid.sortedToOriginal.size());
     sortedFrictionType.resize(numParticles);
     sortedInverseMass.resize(numParticles);
-    if (sweep.stress != nullptr)
-        cellStress.resize(grid.getNumCells());
+    cellStress.prepare(sweep, grid.getNumCells());
     // One friction type and one mass (the usual DPD fluid): the pass needs no per-particle parameters.
     bool uniform = sweep.friction.numTypes == 1 && sweep.uniformInverseMass;
     uniformSweep = uniform;
@@ -431,24 +401,6 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
     });
 }
 
-void CpuDPDPairEngine::addPairStress(DPDPairStressSums& sums, double r, const Vec3& e, double dissipative, double random) {
-    DPDPairStressSums::addPair(sums.dissipative, r, dissipative, e[0], e[1], e[2]);
-    DPDPairStressSums::addPair(sums.random, r, random, e[0], e[1], e[2]);
-}
-
-DPDPairStressSums* CpuDPDPairEngine::cellStressOf(const DPDPairSweep& sweep, int cell) {
-    if (sweep.stress == nullptr)
-        return nullptr;
-    cellStress[cell] = DPDPairStressSums();
-    return &cellStress[cell];
-}
-
-void CpuDPDPairEngine::sumCellStress(const DPDPairSweep& sweep) {
-    if (sweep.stress != nullptr) // in sweep order, whatever the number of threads
-        for (int cell : grid.cellsInSweepOrder)
-            sweep.stress->add(cellStress[cell]);
-}
-
 double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, std::vector<Vec3>& velocities,
                                          const std::vector<Vec3>* response) {
     const std::vector<int>& original = grid.sortedToOriginal;
@@ -478,7 +430,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     auto sweepCell = [&](auto uniform, const PairBuffer& pairs, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const double* inverseMass = sortedInverseMass.data();
         const double uniformInverseMass = this->uniformInverseMass;
-        DPDPairStressSums* stress = cellStressOf(sweep, cell);
+        DPDPairStressSums* stress = cellStress.clearedSumsOf(sweep, cell);
         double responseOfDissipation = 0.0;
         Vec3* velocity = sortedVelocities.data();
         for (int k = first; k < last; k++) {
@@ -489,7 +441,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             velocity[a] += e*(deltaP*(uniform ? uniformInverseMass : inverseMass[a]));
             velocity[b] -= e*(deltaP*(uniform ? uniformInverseMass : inverseMass[b]));
             if (stress != nullptr)
-                addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
+                stress->addPair(block.r[n], e, block.slope[n]*u, block.offset[n]);
             if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
                 responseOfDissipation += block.slope[n]*u*e.dot(sortedResponse[a]-sortedResponse[b]);
         }
@@ -546,7 +498,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     if (sweep.velocitiesFinite != nullptr)
         for (char each : finite)
             *sweep.velocitiesFinite &= each != 0;
-    sumCellStress(sweep);
+    cellStress.addToSweep(sweep, grid.cellsInSweepOrder);
     double responseOfDissipation = 0.0;
     if (response != nullptr)
         for (int cell : grid.cellsInSweepOrder)
@@ -563,30 +515,30 @@ void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<V
     sweepVelocities(sweep, CpuDPDPairUpdateBlock::BBK, velocities, nullptr);
 }
 
-void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,
-                                                     std::vector<Vec3>& forces) {
+void CpuDPDPairEngine::sweepDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,
+                                                       std::vector<Vec3>& sortedResult, const ScatterTask& scatter) {
     const std::vector<int>& original = grid.sortedToOriginal;
     sortedVelocities.resize(original.size());
-    sortedForces.resize(original.size());
+    sortedResult.resize(original.size());
     hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
-    hugePages.advise(CpuDPDHugePages::Forces, forces.data(), forces.size()*sizeof(Vec3));
+    Vec3* result = sortedResult.data();
     auto gather = [&](int begin, int end) {
         for (int s = begin; s < end; s++) {
             sortedVelocities[s] = velocities[original[s]];
-            sortedForces[s] = Vec3();
+            result[s] = Vec3();
         }
     };
     auto applyToCell = [&](const PairBuffer& pairs, int cell, const CpuDPDPairUpdateBlock& block, int blockStart) {
-        DPDPairStressSums* stress = cellStressOf(sweep, cell);
+        DPDPairStressSums* stress = cellStress.clearedSumsOf(sweep, cell);
         for (int k = cellPairBegin[cell]; k < cellPairEnd[cell]; k++) {
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
             double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
             Vec3 force = e*(block.slope[n]*u + block.offset[n]); // eqs. 2.2b, 2.2c
-            sortedForces[a] += force;
-            sortedForces[b] -= force;
+            result[a] += force;
+            result[b] -= force;
             if (stress != nullptr)
-                addPairStress(*stress, block.r[n], e, block.slope[n]*u, block.offset[n]);
+                stress->addPair(block.r[n], e, block.slope[n]*u, block.offset[n]);
         }
     };
     auto apply = [&](int, const PairRun* runs) {
@@ -594,7 +546,53 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
             for (int k = runs[run].cellBegin; k < runs[run].cellEnd; k++)
                 applyToCell(buffers[runs[run].buffer], grid.cellsInSweepOrder[k], *runs[run].block, runs[run].pairBegin);
     };
-    auto scatter = [&](int thread) { grid.forEachLocatedParticle(thread, [&](int i, int s) { forces[i] += sortedForces[s]; }); };
     sweepByColor(sweep, CpuDPDPairUpdateBlock::DissipativeAndRandomForce, gather, apply, scatter);
-    sumCellStress(sweep);
+    cellStress.addToSweep(sweep, grid.cellsInSweepOrder);
+}
+
+void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,
+                                                     std::vector<Vec3>& forces) {
+    hugePages.advise(CpuDPDHugePages::Forces, forces.data(), forces.size()*sizeof(Vec3));
+    sweepDissipativeAndRandomForces(sweep, velocities, sortedForces, [&](int thread) {
+        grid.forEachLocatedParticle(thread, [&](int i, int s) { forces[i] += sortedForces[s]; });
+    });
+}
+
+bool CpuDPDPairEngine::kickWithKeptForces(const DPDPairSweep* dissipativeAndRandom, double dt, const std::vector<double>& inverseMasses,
+                                          std::vector<Vec3>& velocities, std::vector<Vec3>& storedForces) {
+    // Each thread kicks the particles it located, reading their forces in sorted order: the forces'
+    // one way to System order (instead of a scatter into the Context's forces, a pass that clears
+    // them and a kick pass that reads them).
+    storedForces.resize(velocities.size());
+    hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
+    hugePages.advise(CpuDPDHugePages::StoredForces, storedForces.data(), storedForces.size()*sizeof(Vec3));
+    std::vector<char> finite(numThreads, 1);
+    auto kickLocatedParticles = [&](int thread, auto addDissipativeAndRandom) {
+        bool allFinite = true;
+        grid.forEachLocatedParticle(thread, [&](int i, int s) {
+            Vec3 force = sortedForces[s];
+            if constexpr (decltype(addDissipativeAndRandom)::value)
+                force += sortedDissipativeAndRandomForces[s];
+            storedForces[i] = force;
+            allFinite &= DPDPairEngine::kickVelocity(velocities[i], force, dt*inverseMasses[i]);
+        });
+        finite[thread] = allFinite;
+    };
+    if (dissipativeAndRandom == nullptr) // S1: the conservative forces alone
+        onThreads([&](int thread) { kickLocatedParticles(thread, std::false_type()); });
+    else if (numThreads == 1 || smallGrid) // VV: F^C + F^D + F^R, read in sorted order
+        sweepDissipativeAndRandomForces(*dissipativeAndRandom, velocities, sortedDissipativeAndRandomForces,
+                                        [&](int thread) { kickLocatedParticles(thread, std::true_type()); });
+    else {
+        // VV on several threads: the sums first, each thread on its own sorted range (in its cache),
+        // so the kick reads one force that another thread may have swept, not two.
+        int numParticles = static_cast<int>(grid.sortedToOriginal.size());
+        sweepDissipativeAndRandomForces(*dissipativeAndRandom, velocities, sortedDissipativeAndRandomForces, [&](int thread) {
+            for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
+                sortedForces[s] += sortedDissipativeAndRandomForces[s];
+            barrier.wait();
+            kickLocatedParticles(thread, std::false_type());
+        });
+    }
+    return std::all_of(finite.begin(), finite.end(), [](char each) { return each != 0; });
 }

@@ -30,6 +30,11 @@ struct DPDPairStressSums {
         sums[4] += s*ex*ez;
         sums[5] += s*ey*ez;
     }
+    /** Add a pair's r e (x) e times the two parts of its update along e (e: the pair's unit vector). */
+    void addPair(double r, const OpenMM::Vec3& e, double dissipativePart, double randomPart) {
+        addPair(dissipative, r, dissipativePart, e[0], e[1], e[2]);
+        addPair(random, r, randomPart, e[0], e[1], e[2]);
+    }
     void add(const DPDPairStressSums& other) {
         for (int k = 0; k < 6; k++) {
             dissipative[k] += other.dissipative[k];
@@ -107,14 +112,26 @@ public:
      */
     virtual void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) { body(0, count); }
     /**
-     * Engines that can fuse ABOBA's kicks into the O sweep (DPDPairSweep::flankingKick) with the forces
-     * of their own search.  keepForcesSorted(true): the next searches keep the conservative forces in
-     * the engine instead of adding them to the given forces; addKeptForcesTo adds the latest search's
-     * kept forces there after all (when the step does not sweep with this engine after all).
+     * Engines that can keep the conservative forces of their own search and apply them in their own
+     * passes: ABOBA's kicks in the O sweep (DPDPairSweep::flankingKick), VV's and S1's closing kick in
+     * the pass that brings the forces to System order (kickWithKeptForces).  keepForcesSorted(true):
+     * the next searches keep the conservative forces in the engine instead of adding them to the given
+     * forces; addKeptForcesTo adds the latest search's kept forces there after all (when the step does
+     * not use this engine's pairs after all).
      */
-    virtual bool supportsFlankingKicks() const { return false; }
+    virtual bool canKeepForces() const { return false; }
     virtual void keepForcesSorted(bool keep) {}
     virtual void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) {}
+    /**
+     * The closing kick B(dt) of VV and S1 (eqs. 2.3c, 2.13c) with the forces this engine kept
+     * (keepForcesSorted): F = the kept conservative forces plus, with `dissipativeAndRandom` (VV's
+     * sweep), F^D + F^R at these velocities (eqs. 2.2b, 2.2c); then v += F dt/m, and F is stored in
+     * `storedForces` for the next step's first kick.  Returns whether every velocity is then finite.
+     * Defined as these steps one after the other; an engine that keeps forces does them in fewer passes
+     * with the same bits.
+     */
+    virtual bool kickWithKeptForces(const DPDPairSweep* dissipativeAndRandom, double dt, const std::vector<double>& inverseMasses,
+                                    std::vector<OpenMM::Vec3>& velocities, std::vector<OpenMM::Vec3>& storedForces);
     /** One particle's B step, v += F dtOverMass (dtOverMass = dt/m, 0 for a massless particle); returns whether v is then finite. */
     static bool kickVelocity(OpenMM::Vec3& velocity, const OpenMM::Vec3& force, double dtOverMass) {
         velocity += force*dtOverMass;
@@ -122,10 +139,10 @@ public:
     }
     /**
      * The B step, v += F (dt/m) (eq. 2.5b), on the platform's threads; returns whether every velocity
-     * is then finite.  With `keptForces`, also copies the forces there in the same pass.
+     * is then finite.  With `storedForces`, also copies the forces there in the same pass.
      */
     bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, const std::vector<double>& inverseMasses,
-              double dt, std::vector<OpenMM::Vec3>* keptForces = nullptr);
+              double dt, std::vector<OpenMM::Vec3>* storedForces = nullptr);
 };
 
 /** How a platform makes its engines (one for a DPDForce kernel, one for an integrator's own pairs). */

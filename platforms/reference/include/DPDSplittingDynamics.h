@@ -97,11 +97,12 @@ private:
     void storeForces(const std::vector<OpenMM::Vec3>& forces);
     /**
      * Evaluate the Context's forces at its current positions and return the engine holding the pairs at
-     * those positions.  With `forcesForFlankingKicks` (ABOBA), the one DPDForce's engine may keep its
-     * forces for the O sweep's kicks instead: returns whether it did (the Context's forces are then not
-     * evaluated) and the pairs are its.
+     * those positions.  With `forcesKept` (ABOBA without NEMD, VV, S1), the one DPDForce's engine may
+     * keep its conservative forces for the step's kicks in its own passes instead (ABOBA's O sweep,
+     * kickWithKeptForces): returns whether it did (the Context's forces are then not evaluated) and
+     * the pairs are its.
      */
-    DPDPairEngine& evaluateForcesAndPairs(OpenMM::ContextImpl& context, bool* forcesForFlankingKicks = nullptr);
+    DPDPairEngine& evaluateForcesAndPairs(OpenMM::ContextImpl& context, bool* forcesKept = nullptr);
     /** The parameters of the next pair sweep over a sub-step dt (each sweep draws new random numbers). */
     DPDPairSweep nextSweep(double dt, DPDPairStressSums* stressSums = nullptr) {
         return {friction, inverseMasses, uniformInverseMass, kT, dt, random.sweepKey(sweepCounter++), leesEdwards.getShearRate(), stressSums};
@@ -135,10 +136,10 @@ private:
     std::vector<OpenMM::ForceImpl*> integratedForceImpls;
     bool contextEvaluatedForces = false;
     std::unique_ptr<DPDPairEngine> ownEngine;
-    // When the integrated forces are one DPDForce whose engine can fuse kicks into the O sweep, ABOBA's
-    // B O B is one sweep with the forces kept in that engine (saves a pass over the particles for each
-    // kick and the forces' way into the Context and back).
-    DPDPairEngine* flankingKicksEngine = nullptr;
+    // When the integrated forces are one DPDForce whose engine can keep its forces, the kicks are done in
+    // that engine's passes: ABOBA's B O B is one sweep, VV's and S1's closing kick the forces' way to
+    // System order (saves a pass over the particles for each kick and the forces' way into the Context and back).
+    DPDPairEngine* forceKeepingEngine = nullptr;
     DPDPairEngine* pairsAtCurrentPositions = nullptr; // the engine holding the pairs at the current positions
 
     // Transport (NEMD, Norton): the profile's fields at the latest positions, and the running sums.

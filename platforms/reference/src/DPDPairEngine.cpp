@@ -5,20 +5,29 @@ using namespace OpenMMDPD;
 using OpenMM::Vec3;
 
 bool DPDPairEngine::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, const std::vector<double>& inverseMasses, double dt,
-                         std::vector<Vec3>* keptForces) {
+                         std::vector<Vec3>* storedForces) {
     std::atomic<bool> allFinite{true};
-    if (keptForces != nullptr)
-        keptForces->resize(forces.size());
-    Vec3* kept = keptForces != nullptr ? keptForces->data() : nullptr;
+    if (storedForces != nullptr)
+        storedForces->resize(forces.size());
+    Vec3* stored = storedForces != nullptr ? storedForces->data() : nullptr;
     forEachParticleRange(static_cast<int>(velocities.size()), [&](int begin, int end) {
         bool finite = true;
         for (int i = begin; i < end; i++) {
-            if (kept != nullptr)
-                kept[i] = forces[i];
+            if (stored != nullptr)
+                stored[i] = forces[i];
             finite &= kickVelocity(velocities[i], forces[i], dt*inverseMasses[i]);
         }
         if (!finite)
             allFinite.store(false);
     });
     return allFinite.load();
+}
+
+bool DPDPairEngine::kickWithKeptForces(const DPDPairSweep* dissipativeAndRandom, double dt, const std::vector<double>& inverseMasses,
+                                       std::vector<Vec3>& velocities, std::vector<Vec3>& storedForces) {
+    std::vector<Vec3> forces(velocities.size());
+    addKeptForcesTo(forces);
+    if (dissipativeAndRandom != nullptr)
+        addDissipativeAndRandomForces(*dissipativeAndRandom, velocities, forces);
+    return kick(velocities, forces, inverseMasses, dt, &storedForces);
 }

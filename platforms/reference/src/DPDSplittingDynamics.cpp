@@ -128,8 +128,8 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
         }
     }
     if (sharedForceKernel != nullptr && forcesFromDPDForcesAlone && integratedForceImpls.size() == 1 &&
-        sharedForceKernel->getPairEngine().supportsFlankingKicks())
-        flankingKicksEngine = &sharedForceKernel->getPairEngine();
+        sharedForceKernel->getPairEngine().canKeepForces())
+        forceKeepingEngine = &sharedForceKernel->getPairEngine();
 }
 
 int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>& positions, std::vector<Vec3>& velocities,
@@ -246,10 +246,10 @@ void DPDSplittingDynamics::storeForces(const std::vector<Vec3>& forces) {
     });
 }
 
-DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context, bool* forcesForFlankingKicks) {
+DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl& context, bool* forcesKept) {
     long long evaluationsBefore = sharedForceKernel ? sharedForceKernel->getEvaluationCount() : 0;
     // Only in the direct evaluation (the first goes through the Context).
-    bool keepForces = forcesForFlankingKicks != nullptr && flankingKicksEngine != nullptr && !friction.allValuesZero &&
+    bool keepForces = forcesKept != nullptr && forceKeepingEngine != nullptr && !friction.allValuesZero &&
                       forcesFromDPDForcesAlone && contextEvaluatedForces;
     if (forcesFromDPDForcesAlone && contextEvaluatedForces) {
         // What the Context's evaluation does for these forces: clear, then each adds its own.  The
@@ -266,9 +266,9 @@ DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl&
                 if (engine != nullptr)
                     engine->keepForcesSorted(false);
             }
-        } keeping{keepForces ? flankingKicksEngine : nullptr};
+        } keeping{keepForces ? forceKeepingEngine : nullptr};
         if (keepForces)
-            flankingKicksEngine->keepForcesSorted(true);
+            forceKeepingEngine->keepForcesSorted(true);
         for (OpenMM::ForceImpl* impl : integratedForceImpls)
             impl->calcForcesAndEnergy(context, true, false, integrationGroups);
     }
@@ -287,12 +287,12 @@ DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl&
         ownEngine->findPairs(state.positions, state.box, friction.maxCutoff, nullptr, nullptr);
         pairsAtCurrentPositions = ownEngine.get();
     }
-    if (forcesForFlankingKicks != nullptr)
-        *forcesForFlankingKicks = keepForces && pairsAtCurrentPositions == flankingKicksEngine;
-    if (keepForces && pairsAtCurrentPositions != flankingKicksEngine) { // the O sweep is another engine's: the forces go to the Context
+    if (forcesKept != nullptr)
+        *forcesKept = keepForces && pairsAtCurrentPositions == forceKeepingEngine;
+    if (keepForces && pairsAtCurrentPositions != forceKeepingEngine) { // the O sweep is another engine's: the forces go to the Context
         std::vector<Vec3>& forces = arrays(context).forces;
         std::fill(forces.begin(), forces.end(), Vec3());
-        flankingKicksEngine->addKeptForcesTo(forces);
+        forceKeepingEngine->addKeptForcesTo(forces);
     }
     return *pairsAtCurrentPositions;
 }
@@ -440,8 +440,11 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
     if (int particle = drift(context, state.positions, state.velocities, dt, &halfKick); particle >= 0) // A(dt), eq. 2.13b
         throwNonFinite(context, "positions", particle);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
-    evaluateForcesAndPairs(context);                                            // at q^{n+1}, reused next step
-    if (!kick(state.velocities, state.forces, 0.5*dt, true))                    // B(dt/2), eq. 2.13c; the forces kept
+    bool forcesKept = false;
+    DPDPairEngine& pairs = evaluateForcesAndPairs(context, &forcesKept);        // at q^{n+1}, reused next step
+    bool finite = forcesKept ? pairs.kickWithKeptForces(nullptr, 0.5*dt, inverseMasses, state.velocities, forceAtCurrentPositions)
+                             : kick(state.velocities, state.forces, 0.5*dt, true); // B(dt/2), eq. 2.13c; the forces kept
+    if (!finite)
         throwNonFinite(context, "velocities");
 }
 
@@ -457,10 +460,19 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
     if (int particle = drift(context, state.positions, state.velocities, dt, &halfKick); particle >= 0) // eq. 2.3b
         throwNonFinite(context, "positions", particle);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
-    DPDPairEngine& pairs = evaluateForcesAndPairs(context);
-    if (!friction.allValuesZero)                                                // at (q^{n+1}, p^{n+1/2})
-        pairs.addDissipativeAndRandomForces(nextSweep(dt, pairStressOfStep()), state.velocities, state.forces);
-    if (!kick(state.velocities, state.forces, 0.5*dt, true))                    // eq. 2.3c; F^C + F^D + F^R kept for the next step
+    bool forcesKept = false;
+    DPDPairEngine& pairs = evaluateForcesAndPairs(context, &forcesKept);
+    bool finite = true;
+    if (forcesKept) {                                                           // F^D + F^R and the kick in the engine's passes
+        DPDPairSweep sweep = nextSweep(dt, pairStressOfStep());
+        finite = pairs.kickWithKeptForces(&sweep, 0.5*dt, inverseMasses, state.velocities, forceAtCurrentPositions);
+    }
+    else {
+        if (!friction.allValuesZero)                                            // at (q^{n+1}, p^{n+1/2})
+            pairs.addDissipativeAndRandomForces(nextSweep(dt, pairStressOfStep()), state.velocities, state.forces);
+        finite = kick(state.velocities, state.forces, 0.5*dt, true);           // eq. 2.3c; F^C + F^D + F^R kept for the next step
+    }
+    if (!finite)
         throwNonFinite(context, "velocities");
 }
 

@@ -70,8 +70,7 @@ double relativeVelocity(const DPDPairSweep& sweep, const DPDPair& pair, const st
 void addPairStress(const DPDPairSweep& sweep, const DPDPair& pair, const DPDPairUpdate& update, double u) {
     if (sweep.stress == nullptr)
         return;
-    DPDPairStressSums::addPair(sweep.stress->dissipative, pair.r, update.dissipative(u), pair.unit[0], pair.unit[1], pair.unit[2]);
-    DPDPairStressSums::addPair(sweep.stress->random, pair.r, update.offset, pair.unit[0], pair.unit[1], pair.unit[2]);
+    sweep.stress->addPair(pair.r, pair.unit, update.dissipative(u), update.offset);
 }
 
 } // namespace
