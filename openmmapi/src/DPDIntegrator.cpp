@@ -176,7 +176,7 @@ void DPDIntegrator::step(int steps) {
     for (int i = 0; i < steps; i++) {
         if (context->updateContextState())
             stepKernel.stateChanged(OpenMM::State::Positions);
-        stepKernel.execute(*context, *this);
+        stepKernel.execute(*context, *this, i+1 < steps);
     }
 }
 

@@ -14,6 +14,7 @@
 #include "CpuDPDSuccessiveSweep.h"
 #include "CpuDPDThreadTeam.h"
 #include "DPDTestSupport.h"
+#include "openmm/CMMotionRemover.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/VerletIntegrator.h"
 #include "openmm/serialization/XmlSerializer.h"
@@ -363,15 +364,18 @@ TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
     // Context: the same bits.  In a small box (one block per colour, the search in two parts) and a
     // larger one, on 1 and 2 threads, with masses that differ between particles, and with the friction
     // cutoff raised past the DPDForce's once bound (the integrator's own pairs then: the kept forces
-    // reach the Context after all).
-    auto run = [](const System& system, const EquilibratedFluid& start, const std::string& scheme, double frictionCutoff, int threads) {
+    // reach the Context after all).  Within one step(15) call VV and S1 also share the kick between two
+    // steps (DPDSplittingDynamics::kicksShareable); fifteen step(1) calls share none: the same bits again.
+    auto run = [](const System& system, const EquilibratedFluid& start, const std::string& scheme, double frictionCutoff, int threads,
+                  int calls = 1) {
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
         integrator.setRandomNumberSeed(5);
         Context context(system, integrator, platform("CPU"), {{"Threads", std::to_string(threads)}});
         integrator.setDefaultCutoff(frictionCutoff);
         context.setPositions(start.fluid.positions);
         context.setVelocities(start.velocities);
-        integrator.step(15);
+        for (int call = 0; call < calls; call++)
+            integrator.step(15/calls);
         return snapshot(context);
     };
     for (int n : {500, 3000}) {
@@ -385,12 +389,51 @@ TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
                 for (int threads : {1, 2}) {
                     SCOPED_TRACE(std::string(scheme) + ", " + std::to_string(n) + " particles, friction cutoff " +
                                  std::to_string(frictionCutoff) + ", " + std::to_string(threads) + " threads");
-                    Snapshot result[2] = {run(*start.fluid.system, start, scheme, frictionCutoff, threads),
-                                          run(*withZeroForce, start, scheme, frictionCutoff, threads)};
+                    Snapshot result[3] = {run(*start.fluid.system, start, scheme, frictionCutoff, threads),
+                                          run(*withZeroForce, start, scheme, frictionCutoff, threads),
+                                          run(*start.fluid.system, start, scheme, frictionCutoff, threads, 15)};
                     EXPECT_TRUE(bitIdentical(result[0], result[1]));
+                    EXPECT_TRUE(bitIdentical(result[0], result[2]));
                     EXPECT_GT(maxAbsDifference(result[0].positions, start.fluid.positions), 0.01);
                 }
     }
+}
+
+TEST(CpuPairEngine, KicksAreSharedOnlyWhereNothingLooksBetweenSteps) {
+    // VV and S1 share the kick between two steps of one step(n) call only when nothing can see the
+    // velocities between them (DPDSplittingDynamics::kicksShareable).  A CMMotionRemover changes the
+    // velocities between steps (in a force group the integrator leaves out, so the DPDForce is still
+    // the one integrated force), and stress samples read them at each step's end: with either, one
+    // step(10) call must give what ten step(1) calls give, bit for bit (if the kick were shared, the
+    // remover and the kinetic stress would see v^{n+1/2} instead of v^{n+1}).
+    EquilibratedFluid start = equilibratedSoftFluid(500, 3.0, 10);
+    std::unique_ptr<System> withRemover(XmlSerializer::clone<System>(*start.fluid.system));
+    withRemover->addForce(new CMMotionRemover(1));
+    withRemover->getForce(withRemover->getNumForces()-1).setForceGroup(1);
+    for (const char* scheme : {"VV", "S1"})
+        for (bool stress : {false, true}) {
+            SCOPED_TRACE(std::string(scheme) + (stress ? ", stress samples" : ", a CMMotionRemover"));
+            Snapshot result[2];
+            DPDIntegrator::StressStatistics statistics[2];
+            for (int calls : {1, 10}) {
+                DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
+                integrator.setRandomNumberSeed(3);
+                integrator.setStressAccumulation(stress);
+                integrator.setIntegrationForceGroups(1); // group 0: the DPDForce
+                Context context(stress ? *start.fluid.system : *withRemover, integrator, platform("CPU"), {{"Threads", "2"}});
+                context.setPositions(start.fluid.positions);
+                context.setVelocities(start.velocities);
+                for (int call = 0; call < calls; call++)
+                    integrator.step(10/calls);
+                result[calls == 10] = snapshot(context);
+                statistics[calls == 10] = integrator.getStressStatistics();
+            }
+            EXPECT_TRUE(bitIdentical(result[0], result[1]));
+            for (int k = 0; k < 9; k++)
+                EXPECT_EQ(statistics[0].kinetic[k], statistics[1].kinetic[k]) << k;
+            if (stress)
+                EXPECT_NE(statistics[0].kinetic[0], 0.0);
+        }
 }
 
 TEST(CpuPairEngine, FusedKicksCatchANonFiniteVelocity) {
@@ -399,37 +442,43 @@ TEST(CpuPairEngine, FusedKicksCatchANonFiniteVelocity) {
     // rest with no neighbour within the cutoff (its neighbours pushed out to 1.02 nm), so the first
     // evaluation gives it no force and the first kick and drift leave it in place; the fluid moves in
     // during the step, and the closing kick with the kept forces (the first kick of a fused kind) reports it.
+    // In one step(5) call, S1's closing kick of step 1 is applied as step 2's O sweep gathers (the kick
+    // the two steps share), and reported there; step by step, at step 1.
     for (const char* scheme : {"ABOBA", "VV", "S1"})
         for (int n : {500, 3000})
-            for (int threads : {1, 2}) {
-                SCOPED_TRACE(std::string(scheme) + ", " + std::to_string(n) + " particles, " + std::to_string(threads) + " threads");
-                EquilibratedFluid start = equilibratedSoftFluid(n, 3.0, 10);
-                const int light = 7;
-                start.fluid.system->setParticleMass(light, 1e-300);
-                start.velocities[light] = Vec3();
-                Vec3 box[3];
-                start.fluid.system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-                for (int j = 0; j < n; j++) {
-                    Vec3 d = start.fluid.positions[j]-start.fluid.positions[light];
-                    for (int axis = 0; axis < 3; axis++)
-                        d[axis] -= box[axis][axis]*std::round(d[axis]/box[axis][axis]);
-                    double r = std::sqrt(d.dot(d));
-                    if (j != light && r < 1.02)
-                        start.fluid.positions[j] = start.fluid.positions[light]+d*(1.02/r);
+            for (int threads : {1, 2})
+                for (bool oneCall : {true, false}) {
+                    SCOPED_TRACE(std::string(scheme) + ", " + std::to_string(n) + " particles, " + std::to_string(threads) + " threads, " +
+                                 (oneCall ? "one call" : "step by step"));
+                    EquilibratedFluid start = equilibratedSoftFluid(n, 3.0, 10);
+                    const int light = 7;
+                    start.fluid.system->setParticleMass(light, 1e-300);
+                    start.velocities[light] = Vec3();
+                    Vec3 box[3];
+                    start.fluid.system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+                    for (int j = 0; j < n; j++) {
+                        Vec3 d = start.fluid.positions[j]-start.fluid.positions[light];
+                        for (int axis = 0; axis < 3; axis++)
+                            d[axis] -= box[axis][axis]*std::round(d[axis]/box[axis][axis]);
+                        double r = std::sqrt(d.dot(d));
+                        if (j != light && r < 1.02)
+                            start.fluid.positions[j] = start.fluid.positions[light]+d*(1.02/r);
+                    }
+                    DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
+                    Context context(*start.fluid.system, integrator, platform("CPU"), {{"Threads", std::to_string(threads)}});
+                    context.setPositions(start.fluid.positions);
+                    context.setVelocities(start.velocities);
+                    try {
+                        for (int call = 0; call < (oneCall ? 1 : 5); call++)
+                            integrator.step(oneCall ? 5 : 1);
+                        ADD_FAILURE() << "no exception";
+                    }
+                    catch (const OpenMMException& e) {
+                        int step = oneCall && std::string(scheme) == "S1" ? 2 : 1;
+                        std::string expected = "non-finite or runaway velocities at step "+std::to_string(step)+" (scheme "+scheme;
+                        EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+                    }
                 }
-                DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
-                Context context(*start.fluid.system, integrator, platform("CPU"), {{"Threads", std::to_string(threads)}});
-                context.setPositions(start.fluid.positions);
-                context.setVelocities(start.velocities);
-                try {
-                    integrator.step(5);
-                    ADD_FAILURE() << "no exception";
-                }
-                catch (const OpenMMException& e) {
-                    std::string expected = std::string("non-finite or runaway velocities at step 1 (scheme ")+scheme;
-                    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-                }
-            }
 }
 
 TEST(CpuPairEngine, NonFinitePositionIsRefusedNotBinned) {

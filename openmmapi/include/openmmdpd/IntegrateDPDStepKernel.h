@@ -20,7 +20,13 @@ public:
     static std::string Name() { return "OpenMMDPD_IntegrateDPDSplittingStep"; }
     IntegrateDPDStepKernel(const std::string& name, const OpenMM::Platform& platform) : OpenMM::KernelImpl(name, platform) {}
     virtual void initialize(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) = 0;
-    virtual void execute(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) = 0;
+    /**
+     * Take one step.  moreStepsFollow: the same step() call takes another step right after this one,
+     * with nothing between them but the Context's updateContextState(); the kernel may then leave a
+     * kick that the two steps share half done (the Context's velocities are those at the step's end
+     * again after the call's last step).
+     */
+    virtual void execute(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, bool moreStepsFollow) = 0;
     virtual double computeKineticEnergy(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) = 0;
     /** The Context's positions, velocities, box or parameters were changed from outside the integrator. */
     virtual void stateChanged(OpenMM::State::DataType changed) = 0;

@@ -80,6 +80,8 @@ public:
             for (std::size_t k = 0; k < list.size; k++)
                 visit(list.particles[k], list.slots[k]);
     }
+    /** Thread t's share of the blocks of a colour, [begin, end): from the first that begins at or after t/T of the colour's cells. */
+    void blocksOfColorShare(int color, int thread, int numThreads, int& begin, int& end) const;
     /** The sorted particles [begin, end) of thread t's block of cells (after placeCellBlock). */
     void sortedRangeOfThread(int thread, int& begin, int& end) const;
     void gatherSortedPositions(int begin, int end);

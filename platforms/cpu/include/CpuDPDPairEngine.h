@@ -53,8 +53,7 @@ public:
     bool canKeepForces() const override { return true; }
     void keepForcesSorted(bool keep) override { forcesStaySorted = keep; }
     void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) override;
-    bool kickWithKeptForces(const DPDPairSweep* dissipativeAndRandom, double dt, const std::vector<double>& inverseMasses,
-                            std::vector<OpenMM::Vec3>& velocities, std::vector<OpenMM::Vec3>& storedForces) override;
+    bool kickWithKeptForces(const DPDKeptForceKick& kick, const DPDPairSweep* dissipativeAndRandom, std::vector<OpenMM::Vec3>& velocities) override;
     /** On the engine's threads when every thread gets enough particles to pay for the hand-over; else at once. */
     void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) override;
 

@@ -291,6 +291,17 @@ void CpuDPDCellGrid::placeCellBlock(int thread) {
     }
 }
 
+void CpuDPDCellGrid::blocksOfColorShare(int color, int thread, int numThreads, int& begin, int& end) const {
+    int firstCell = colorStart[color], numCells = colorStart[color+1]-firstCell;
+    auto blocksBegin = blockStart.begin()+colorBlockStart[color], blocksEnd = blockStart.begin()+colorBlockStart[color+1];
+    auto boundary = [&](int t) {
+        auto block = std::lower_bound(blocksBegin, blocksEnd, firstCell+shareBegin(numCells, t, numThreads));
+        return static_cast<int>(block-blockStart.begin());
+    };
+    begin = boundary(thread);
+    end = boundary(thread+1);
+}
+
 void CpuDPDCellGrid::sortedRangeOfThread(int thread, int& begin, int& end) const {
     // From the block totals, not cellStart: the next block's first entry may not be written yet.
     begin = 0;

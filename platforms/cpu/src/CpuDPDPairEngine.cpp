@@ -53,14 +53,9 @@ void CpuDPDPairEngine::forEachParticleRange(int count, const std::function<void(
 }
 
 void CpuDPDPairEngine::shareBlocksOfColor(int color, int thread) {
-    // Thread t's share starts at the first block of the colour that begins at or after t/T of its cells.
-    int firstCell = grid.colorStart[color], numCells = grid.colorStart[color+1]-firstCell;
-    auto blocksBegin = grid.blockStart.begin()+grid.colorBlockStart[color], blocksEnd = grid.blockStart.begin()+grid.colorBlockStart[color+1];
-    auto boundary = [&](int t) {
-        auto block = std::lower_bound(blocksBegin, blocksEnd, firstCell+CpuDPDCellGrid::shareBegin(numCells, t, numThreads));
-        return static_cast<int>(block-grid.blockStart.begin());
-    };
-    blockQueue.share(thread, boundary(thread), boundary(thread+1));
+    int begin, end;
+    grid.blocksOfColorShare(color, thread, numThreads, begin, end);
+    blockQueue.share(thread, begin, end);
 }
 
 namespace {
@@ -558,41 +553,51 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
     });
 }
 
-bool CpuDPDPairEngine::kickWithKeptForces(const DPDPairSweep* dissipativeAndRandom, double dt, const std::vector<double>& inverseMasses,
-                                          std::vector<Vec3>& velocities, std::vector<Vec3>& storedForces) {
-    // Each thread kicks the particles it located, reading their forces in sorted order: the forces'
-    // one way to System order (instead of a scatter into the Context's forces, a pass that clears
-    // them and a kick pass that reads them).
-    storedForces.resize(velocities.size());
+bool CpuDPDPairEngine::kickWithKeptForces(const DPDKeptForceKick& kick, const DPDPairSweep* dissipativeAndRandom, std::vector<Vec3>& velocities) {
+    // Each thread kicks the particles it located, reading their forces in sorted order: the forces' one way to
+    // System order (instead of a scatter into the Context's forces, a pass that clears them and a kick pass).
     hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
-    hugePages.advise(CpuDPDHugePages::StoredForces, storedForces.data(), storedForces.size()*sizeof(Vec3));
+    Vec3* stored = nullptr;
+    if (kick.storedForces != nullptr) {
+        kick.storedForces->resize(velocities.size());
+        hugePages.advise(CpuDPDHugePages::StoredForces, kick.storedForces->data(), kick.storedForces->size()*sizeof(Vec3));
+        stored = kick.storedForces->data();
+    }
     std::vector<char> finite(numThreads, 1);
-    auto kickLocatedParticles = [&](int thread, auto addDissipativeAndRandom) {
+    // After VV's sweep, a particle's velocity is also in sortedVelocities (gathered, not changed): read
+    // there in order, it is only written at random (a store does not hold the processor up as a load does).
+    auto kickLocatedParticles = [&](int thread, auto afterSweep, auto addDissipativeAndRandom) {
         bool allFinite = true;
         grid.forEachLocatedParticle(thread, [&](int i, int s) {
             Vec3 force = sortedForces[s];
             if constexpr (decltype(addDissipativeAndRandom)::value)
                 force += sortedDissipativeAndRandomForces[s];
-            storedForces[i] = force;
-            allFinite &= DPDPairEngine::kickVelocity(velocities[i], force, dt*inverseMasses[i]);
+            if (stored != nullptr)
+                stored[i] = force;
+            double dtOverMass = kick.dt*kick.inverseMasses[kick.uniformInverseMass ? 0 : i]; // one mass: no read at random
+            Vec3 velocity = decltype(afterSweep)::value ? sortedVelocities[s] : velocities[i];
+            allFinite &= DPDPairEngine::kickVelocity(velocity, force, dtOverMass);
+            for (int k = 1; k < kick.kicks; k++) // its finiteness is the next drift's to check, as when that drift kicks
+                DPDPairEngine::kickVelocity(velocity, force, dtOverMass);
+            velocities[i] = velocity;
         });
         finite[thread] = allFinite;
     };
-    if (dissipativeAndRandom == nullptr) // S1: the conservative forces alone
-        onThreads([&](int thread) { kickLocatedParticles(thread, std::false_type()); });
-    else if (numThreads == 1 || smallGrid) // VV: F^C + F^D + F^R, read in sorted order
-        sweepDissipativeAndRandomForces(*dissipativeAndRandom, velocities, sortedDissipativeAndRandomForces,
-                                        [&](int thread) { kickLocatedParticles(thread, std::true_type()); });
-    else {
-        // VV on several threads: the sums first, each thread on its own sorted range (in its cache),
-        // so the kick reads one force that another thread may have swept, not two.
-        int numParticles = static_cast<int>(grid.sortedToOriginal.size());
-        sweepDissipativeAndRandomForces(*dissipativeAndRandom, velocities, sortedDissipativeAndRandomForces, [&](int thread) {
-            for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
-                sortedForces[s] += sortedDissipativeAndRandomForces[s];
-            barrier.wait();
-            kickLocatedParticles(thread, std::false_type());
-        });
+    if (dissipativeAndRandom == nullptr) { // S1: the conservative forces alone
+        onThreads([&](int thread) { kickLocatedParticles(thread, std::false_type(), std::false_type()); });
+        return std::all_of(finite.begin(), finite.end(), [](char each) { return each != 0; });
     }
+    // VV: F^C + F^D + F^R.  On several threads, the sums first, each thread on its own sorted range (in
+    // its cache), so that the kick reads one force that another thread may have swept, not two.
+    bool sumFirst = numThreads > 1 && !smallGrid;
+    int numParticles = static_cast<int>(grid.sortedToOriginal.size());
+    sweepDissipativeAndRandomForces(*dissipativeAndRandom, velocities, sortedDissipativeAndRandomForces, [&](int thread) {
+        if (!sumFirst)
+            return kickLocatedParticles(thread, std::true_type(), std::true_type());
+        for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
+            sortedForces[s] += sortedDissipativeAndRandomForces[s];
+        barrier.wait();
+        kickLocatedParticles(thread, std::true_type(), std::false_type());
+    });
     return std::all_of(finite.begin(), finite.end(), [](char each) { return each != 0; });
 }

@@ -68,6 +68,15 @@ struct DPDPairSweep {
     bool* velocitiesFinite = nullptr;
 };
 
+/** The closing kick B(dt) of VV and S1 with an engine's kept forces (DPDPairEngine::kickWithKeptForces). */
+struct DPDKeptForceKick {
+    double dt;
+    const std::vector<double>& inverseMasses;
+    bool uniformInverseMass;                           // every entry of inverseMasses is the same
+    int kicks = 1;                                     // 2: also the next step's opening kick (VV, eq. 2.3a)
+    std::vector<OpenMM::Vec3>* storedForces = nullptr; // where F is kept for the next step's first kick, if anywhere
+};
+
 /**
  * What a platform contributes to the DPD kernels: how the pairs closer than a radius are found and
  * how they are swept.  The schemes (DPDSplittingDynamics) and the pair formulas (DPDPairFormulas.h)
@@ -125,13 +134,13 @@ public:
     /**
      * The closing kick B(dt) of VV and S1 (eqs. 2.3c, 2.13c) with the forces this engine kept
      * (keepForcesSorted): F = the kept conservative forces plus, with `dissipativeAndRandom` (VV's
-     * sweep), F^D + F^R at these velocities (eqs. 2.2b, 2.2c); then v += F dt/m, and F is stored in
-     * `storedForces` for the next step's first kick.  Returns whether every velocity is then finite.
-     * Defined as these steps one after the other; an engine that keeps forces does them in fewer passes
-     * with the same bits.
+     * sweep), F^D + F^R at these velocities (eqs. 2.2b, 2.2c); then v += F dt/m kick.kicks times, and F
+     * is stored in kick.storedForces, if given.  Returns whether every velocity is finite after the
+     * first kick.  Defined as these steps one after the other; an engine that keeps forces does them
+     * in fewer passes with the same bits.
      */
-    virtual bool kickWithKeptForces(const DPDPairSweep* dissipativeAndRandom, double dt, const std::vector<double>& inverseMasses,
-                                    std::vector<OpenMM::Vec3>& velocities, std::vector<OpenMM::Vec3>& storedForces);
+    virtual bool kickWithKeptForces(const DPDKeptForceKick& kick, const DPDPairSweep* dissipativeAndRandom,
+                                    std::vector<OpenMM::Vec3>& velocities);
     /** One particle's B step, v += F dtOverMass (dtOverMass = dt/m, 0 for a massless particle); returns whether v is then finite. */
     static bool kickVelocity(OpenMM::Vec3& velocity, const OpenMM::Vec3& force, double dtOverMass) {
         velocity += force*dtOverMass;

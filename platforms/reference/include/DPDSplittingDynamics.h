@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_DPDSPLITTINGDYNAMICS_H_
 #define OPENMMDPD_DPDSPLITTINGDYNAMICS_H_
 
+#include "DPDForcingFields.h"
 #include "DPDLeesEdwardsFlow.h"
 #include "DPDPairEngine.h"
 #include "DPDPairRandom.h"
@@ -42,8 +43,11 @@ class DPDSplittingDynamics {
 public:
     DPDSplittingDynamics(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, DPDPairEngineFactory makeEngine);
 
-    /** Take one step of the integrator's scheme. */
-    void step(OpenMM::ContextImpl& context, const DPDIntegrator& integrator);
+    /**
+     * Take one step of the integrator's scheme.  moreStepsFollow (IntegrateDPDStepKernel::execute): VV
+     * and S1 may share the kick between this step and the next (kicksShareable).
+     */
+    void step(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, bool moreStepsFollow);
     double computeKineticEnergy(OpenMM::ContextImpl& context) const;
     void stateChanged(OpenMM::State::DataType changed);
     void createCheckpoint(std::ostream& stream) const;
@@ -64,8 +68,10 @@ private:
     void stepABOBA(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator);
     /** ABOBA-Norton, Wu & Shang eqs. 52-70. */
     void stepABOBANorton(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator);
-    void stepS1(OpenMM::ContextImpl& context, double dt);
-    void stepVV(OpenMM::ContextImpl& context, double dt);
+    /** shareKick: leave this step's closing kick to the next step's O sweep (kicksShareable). */
+    void stepS1(OpenMM::ContextImpl& context, double dt, bool shareKick);
+    /** shareKick: give the velocities the next step's opening kick with this step's closing kick (kicksShareable). */
+    void stepVV(OpenMM::ContextImpl& context, double dt, bool shareKick);
 
     /** A kick B(dt) that drift() applies first, particle by particle in its own pass (one pass instead of two). */
     struct KickFirst {
@@ -107,12 +113,6 @@ private:
     DPDPairSweep nextSweep(double dt, DPDPairStressSums* stressSums = nullptr) {
         return {friction, inverseMasses, uniformInverseMass, kT, dt, random.sweepKey(sweepCounter++), leesEdwards.getShearRate(), stressSums};
     }
-    /** F(q) and G(q) of the integrator's forcing profile at the given positions; returns F . G. */
-    double evaluateForcingFields(const DPDIntegrator& integrator, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
-    /** R = G . p = sum_i G_i . m_i v_i. */
-    double responseOf(const std::vector<OpenMM::Vec3>& velocities) const;
-    /** p += xi F (the forcing of eqs. 6 and 11 over one sub-step). */
-    void applyForcingImpulse(double xi, std::vector<OpenMM::Vec3>& velocities) const;
     void throwNonFinite(OpenMM::ContextImpl& context, const char* what, int particle = -1) const;
 
     DPDIntegrator::Scheme scheme;
@@ -143,10 +143,7 @@ private:
     DPDPairEngine* pairsAtCurrentPositions = nullptr; // the engine holding the pairs at the current positions
 
     // Transport (NEMD, Norton): the profile's fields at the latest positions, and the running sums.
-    std::vector<OpenMM::Vec3> forcingField, responseField;
-    const DPDForcingProfile* fieldsProfile = nullptr; // the profile the constant fields belong to
-    std::string fieldsProfileType;
-    double forcingDotResponse = 0.0;
+    DPDForcingFields forcing;
     DPDIntegrator::TransportStatistics transport;
 
     // Lees-Edwards shear and the stress tensor.
@@ -161,6 +158,18 @@ private:
     bool forceAtCurrentPositionsValid = false;
     OpenMM::Vec3 boxOfStoredForce[3];
     bool keepStoredForceThroughStateChanges = false;
+    /**
+     * The closing kick B(h/2) of VV and S1 and the next step's opening kick use the same forces, those
+     * at the positions of the step's end.  Within one step(n) call, with the forces kept in the
+     * engine, they are applied in one pass: VV's closing pass kicks twice (the velocities are then
+     * v^{n+3/2}, and the next step only drifts), S1's closing kick waits for the next step's O sweep,
+     * which kicks as it gathers and again as it scatters (ABOBA's B O B).  The same arithmetic in the
+     * same order: the same bits.  Only where nothing can look at the velocities between the two steps:
+     * the System's one force is the DPDForce, no shear, no stress samples (kicksShareable).
+     */
+    bool kicksShareable(OpenMM::ContextImpl& context) const;
+    bool velocitiesHaveOpeningKick = false; // VV: the Context's velocities are already kicked for this step's drift
+    bool velocitiesLackClosingKick = false; // S1: the previous step's closing kick is still to come, with the engine's kept forces
 };
 
 } // namespace OpenMMDPD

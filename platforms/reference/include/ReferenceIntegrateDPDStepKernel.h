@@ -16,7 +16,9 @@ public:
     void initialize(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) override {
         dynamics = std::make_unique<DPDSplittingDynamics>(context, integrator, makeEngine);
     }
-    void execute(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) override { dynamics->step(context, integrator); }
+    void execute(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, bool moreStepsFollow) override {
+        dynamics->step(context, integrator, moreStepsFollow);
+    }
     double computeKineticEnergy(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) override {
         return dynamics->computeKineticEnergy(context);
     }

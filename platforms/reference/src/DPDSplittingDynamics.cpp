@@ -1,4 +1,5 @@
 #include "DPDSplittingDynamics.h"
+#include "DPDFrictionTable.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "ReferenceCalcDPDForceKernel.h"
 #include "openmm/OpenMMException.h"
@@ -29,37 +30,6 @@ struct DPDSplittingDynamics::ContextArrays {
     OpenMM::ReferencePlatform::PlatformData& data;
 };
 
-namespace {
-
-/**
- * The integrator's friction table in dense form, with virtual sites moved to a type of their own with
- * zero friction: a site's velocity is not integrated (its position follows its parents), so it takes
- * no part in the thermostat; the conservative force on it reaches its parents through OpenMM.
- */
-DPDTypePairTable::Compiled compileFriction(const OpenMM::System& system, const DPDTypePairTable& table) {
-    DPDTypePairTable::Compiled compiled = table.compile(system.getNumParticles());
-    bool anyVirtualSite = false;
-    for (int i = 0; i < system.getNumParticles() && !anyVirtualSite; i++)
-        anyVirtualSite = system.isVirtualSite(i);
-    if (!anyVirtualSite)
-        return compiled;
-    int n = compiled.numTypes, siteType = n;
-    std::vector<double> value((n+1)*(n+1), 0.0), cutoff((n+1)*(n+1), compiled.maxCutoff);
-    for (int a = 0; a < n; a++)
-        for (int b = 0; b < n; b++) {
-            value[a*(n+1)+b] = compiled.valueOf(a, b);
-            cutoff[a*(n+1)+b] = compiled.cutoffOf(a, b);
-        }
-    compiled.numTypes = n+1;
-    compiled.value = std::move(value);
-    compiled.cutoff = std::move(cutoff);
-    for (int i = 0; i < system.getNumParticles(); i++)
-        if (system.isVirtualSite(i))
-            compiled.particleTypeIndex[i] = siteType;
-    return compiled;
-}
-
-} // namespace
 
 DPDSplittingDynamics::ContextArrays DPDSplittingDynamics::arrays(OpenMM::ContextImpl& context) const {
     auto* data = reinterpret_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
@@ -71,7 +41,7 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
     : scheme(integrator.getScheme()), stepSize(integrator.getStepSize()),
       kT(BOLTZ*integrator.getTemperature()), integrationGroups(integrator.getIntegrationForceGroups()) {
     const OpenMM::System& system = context.getSystem();
-    friction = compileFriction(system, integrator.getTable());
+    friction = DPDFrictionTable::compile(system, integrator.getTable());
     frictionRevision = integrator.getTable().getRevision();
     for (int i = 0; i < system.getNumParticles(); i++)
         if (system.isVirtualSite(i))
@@ -210,7 +180,7 @@ void DPDSplittingDynamics::applyFrictionTableChanges(OpenMM::ContextImpl& contex
     // setDefaultFriction, setDefaultCutoff, setParticleType, addTypePair ... on a bound integrator take
     // effect here, at the next step, as LangevinMiddleIntegrator.setFriction does; compile() and the
     // box check validate them now, so a value is never accepted and then silently left unused.
-    DPDTypePairTable::Compiled updated = compileFriction(context.getSystem(), integrator.getTable());
+    DPDTypePairTable::Compiled updated = DPDFrictionTable::compile(context.getSystem(), integrator.getTable());
     DPDPeriodicBox::checkCutoff("DPDIntegrator", updated.maxCutoff, arrays(context).box);
     friction = std::move(updated);
     frictionRevision = integrator.getTable().getRevision();
@@ -297,34 +267,6 @@ DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl&
     return *pairsAtCurrentPositions;
 }
 
-double DPDSplittingDynamics::evaluateForcingFields(const DPDIntegrator& integrator, const std::vector<Vec3>& positions, const Vec3* box) {
-    const DPDForcingProfile& profile = *integrator.getForcingProfile();
-    // Position-independent fields are computed once per profile; the type guards against a new profile
-    // allocated where a freed one was (only the shear profiles have parameters, and they depend on q).
-    if (profile.dependsOnPositions() || fieldsProfile != &profile || fieldsProfileType != profile.getType() ||
-        forcingField.size() != positions.size()) {
-        profile.evaluate(positions, box, masses, forcingField, responseField);
-        fieldsProfile = &profile;
-        fieldsProfileType = profile.getType();
-        forcingDotResponse = 0.0;
-        for (std::size_t i = 0; i < positions.size(); i++)
-            forcingDotResponse += forcingField[i].dot(responseField[i]);
-    }
-    return forcingDotResponse;
-}
-
-double DPDSplittingDynamics::responseOf(const std::vector<Vec3>& velocities) const {
-    double response = 0.0;
-    for (std::size_t i = 0; i < velocities.size(); i++)
-        response += masses[i]*responseField[i].dot(velocities[i]);
-    return response;
-}
-
-void DPDSplittingDynamics::applyForcingImpulse(double xi, std::vector<Vec3>& velocities) const {
-    for (std::size_t i = 0; i < velocities.size(); i++)
-        velocities[i] += forcingField[i]*(xi*inverseMasses[i]);
-}
-
 void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const char* what, int particle) const {
     std::stringstream message;
     message << "DPDIntegrator: non-finite or runaway " << what;
@@ -356,16 +298,16 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     }
     else {
         if (nemd)
-            evaluateForcingFields(integrator, state.positions, state.box);      // F(q^{n+1/2}) of eq. 6
+            forcing.evaluate(*integrator.getForcingProfile(), state.positions, state.box, masses); // F(q^{n+1/2}) of eq. 6
         kick(state.velocities, state.forces, 0.5*dt);                           // B(dt/2), eq. 2.20
         if (nemd)
-            applyForcingImpulse(0.5*dt*eta, state.velocities);                  // + eta F dt/2 (NEMD's B, eq. 17)
+            forcing.applyImpulse(0.5*dt*eta, state.velocities, inverseMasses);       // + eta F dt/2 (NEMD's B, eq. 17)
         if (!friction.allValuesZero)
             pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt, pairStressOfStep()), state.velocities, nullptr); // O(dt), eqs. 2.21-2.22
         if (nemd) {
             if (!kick(state.velocities, state.forces, 0.5*dt))
                 lastKick.velocitiesFinite.store(false);
-            applyForcingImpulse(0.5*dt*eta, state.velocities);
+            forcing.applyImpulse(0.5*dt*eta, state.velocities, inverseMasses);
         }
     }
     bool kickInDrift = !nemd && !flankingKicks;
@@ -376,8 +318,8 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
         throwNonFinite(context, "positions", unsound);
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     if (nemd) {
-        evaluateForcingFields(integrator, state.positions, state.box);          // G(q^{n+1})
-        transport.lastResponse = responseOf(state.velocities);                  // R at (q^{n+1}, p^{n+1}), for eq. 9
+        forcing.evaluate(*integrator.getForcingProfile(), state.positions, state.box, masses); // G(q^{n+1})
+        transport.lastResponse = forcing.responseOf(state.velocities, masses);  // R at (q^{n+1}, p^{n+1}), for eq. 9
         transport.responseSum += transport.lastResponse;
         transport.steps++;
     }
@@ -396,20 +338,20 @@ void DPDSplittingDynamics::stepABOBANorton(OpenMM::ContextImpl& context, double 
     };
     // Each multiplier xi sets G . p to r after its sub-step (eqs. 42, 45, 50); l sums them (eq. 54 ...).
     auto project = [&](double fDotG) {
-        double xi = (r - responseOf(state.velocities))/fDotG;
-        applyForcingImpulse(xi, state.velocities);
+        double xi = (r - forcing.responseOf(state.velocities, masses))/fDotG;
+        forcing.applyImpulse(xi, state.velocities, inverseMasses);
         return xi;
     };
     double l = 0.0;
     if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // eq. 52
         throwNonFinite(context, "positions", particle);
-    double fDotG = requireControllable(evaluateForcingFields(integrator, state.positions, state.box));
+    double fDotG = requireControllable(forcing.evaluate(*integrator.getForcingProfile(), state.positions, state.box, masses));
     l += project(fDotG);                                                                   // eqs. 53-54
     DPDPairEngine& pairs = evaluateForcesAndPairs(context);
     kick(state.velocities, state.forces, 0.5*dt);                                          // eq. 55
     l += project(fDotG);                                                                   // eqs. 56-57
     if (!friction.allValuesZero) {
-        double responseOfDissipation = pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt), state.velocities, &responseField); // eqs. 58-61
+        double responseOfDissipation = pairs.applyPairwiseOrnsteinUhlenbeck(nextSweep(dt), state.velocities, &forcing.getResponseField()); // eqs. 58-61
         project(fDotG);                                                                    // eq. 62
         l -= responseOfDissipation/fDotG;                                                  // eq. 63: martingale part left out
     }
@@ -418,54 +360,74 @@ void DPDSplittingDynamics::stepABOBANorton(OpenMM::ContextImpl& context, double 
     l += project(fDotG);                                                                   // eqs. 65-66
     if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // eq. 67
         throwNonFinite(context, "positions", particle);
-    fDotG = requireControllable(evaluateForcingFields(integrator, state.positions, state.box));
+    fDotG = requireControllable(forcing.evaluate(*integrator.getForcingProfile(), state.positions, state.box, masses));
     l += project(fDotG);                                                                   // eqs. 68-69
     transport.lastForcing = l/dt;                                                          // eq. 70
-    transport.lastResponse = responseOf(state.velocities);
+    transport.lastResponse = forcing.responseOf(state.velocities, masses);
     transport.forcingSum += transport.lastForcing;
     transport.responseSum += transport.lastResponse;
     transport.steps++;
     forceAtCurrentPositionsValid = false;
 }
 
-void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt) {
+void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt, bool shareKick) {
     ContextArrays state = arrays(context);
-    if (!forceAtCurrentPositionsValid || pairsAtCurrentPositions == nullptr) {
+    bool kicksInSweep = velocitiesLackClosingKick; // the last step's closing kick as the sweep gathers, this step's B(dt/2) as it scatters
+    velocitiesLackClosingKick = false;
+    if (!kicksInSweep && (!forceAtCurrentPositionsValid || pairsAtCurrentPositions == nullptr)) {
         evaluateForcesAndPairs(context);
         storeForces(state.forces);
     }
-    if (!friction.allValuesZero)
-        pairsAtCurrentPositions->applyPairwiseBBK(nextSweep(dt, pairStressOfStep()), state.velocities); // O(dt), eq. 2.12
+    if (!friction.allValuesZero) {
+        bool finite = true;
+        DPDPairSweep sweep = nextSweep(dt, pairStressOfStep());
+        if (kicksInSweep) {
+            sweep.flankingKick = 0.5*dt;
+            sweep.velocitiesFinite = &finite;
+        }
+        pairsAtCurrentPositions->applyPairwiseBBK(sweep, state.velocities);      // O(dt), eq. 2.12
+        if (!finite)
+            throwNonFinite(context, "velocities");
+    }
     KickFirst halfKick{forceAtCurrentPositions, 0.5*dt};                        // B(dt/2), eq. 2.13a, in the drift's pass
-    if (int particle = drift(context, state.positions, state.velocities, dt, &halfKick); particle >= 0) // A(dt), eq. 2.13b
-        throwNonFinite(context, "positions", particle);
+    if (int particle = drift(context, state.positions, state.velocities, dt, kicksInSweep ? nullptr : &halfKick); particle >= 0)
+        throwNonFinite(context, "positions", particle);                         // A(dt), eq. 2.13b
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     bool forcesKept = false;
     DPDPairEngine& pairs = evaluateForcesAndPairs(context, &forcesKept);        // at q^{n+1}, reused next step
-    bool finite = forcesKept ? pairs.kickWithKeptForces(nullptr, 0.5*dt, inverseMasses, state.velocities, forceAtCurrentPositions)
+    if (forcesKept && shareKick) {                                              // B(dt/2), eq. 2.13c, in the next step's sweep
+        velocitiesLackClosingKick = true;
+        return;
+    }
+    bool finite = forcesKept ? pairs.kickWithKeptForces({0.5*dt, inverseMasses, uniformInverseMass, 1, &forceAtCurrentPositions}, nullptr, state.velocities)
                              : kick(state.velocities, state.forces, 0.5*dt, true); // B(dt/2), eq. 2.13c; the forces kept
     if (!finite)
         throwNonFinite(context, "velocities");
 }
 
-void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
+void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt, bool shareKick) {
     ContextArrays state = arrays(context);
-    if (!forceAtCurrentPositionsValid) {
+    bool openingKickDone = velocitiesHaveOpeningKick; // by the last step's closing pass
+    velocitiesHaveOpeningKick = false;
+    if (!openingKickDone && !forceAtCurrentPositionsValid) {
         DPDPairEngine& pairs = evaluateForcesAndPairs(context);
         storeForces(state.forces);
         if (!friction.allValuesZero)
             pairs.addDissipativeAndRandomForces(nextSweep(dt), state.velocities, forceAtCurrentPositions);
     }
     KickFirst halfKick{forceAtCurrentPositions, 0.5*dt};                        // eq. 2.3a, with the stored forces, in the drift's pass
-    if (int particle = drift(context, state.positions, state.velocities, dt, &halfKick); particle >= 0) // eq. 2.3b
-        throwNonFinite(context, "positions", particle);
+    if (int particle = drift(context, state.positions, state.velocities, dt, openingKickDone ? nullptr : &halfKick); particle >= 0)
+        throwNonFinite(context, "positions", particle);                         // eq. 2.3b
     moveImages(context, dt);                                                    // Lees-Edwards offset at t + h
     bool forcesKept = false;
     DPDPairEngine& pairs = evaluateForcesAndPairs(context, &forcesKept);
     bool finite = true;
     if (forcesKept) {                                                           // F^D + F^R and the kick in the engine's passes
         DPDPairSweep sweep = nextSweep(dt, pairStressOfStep());
-        finite = pairs.kickWithKeptForces(&sweep, 0.5*dt, inverseMasses, state.velocities, forceAtCurrentPositions);
+        DPDKeptForceKick closingKick{0.5*dt, inverseMasses, uniformInverseMass, shareKick ? 2 : 1, // with the next step's eq. 2.3a when shared
+                                     shareKick ? nullptr : &forceAtCurrentPositions};
+        finite = pairs.kickWithKeptForces(closingKick, &sweep, state.velocities);
+        velocitiesHaveOpeningKick = shareKick;
     }
     else {
         if (!friction.allValuesZero)                                            // at (q^{n+1}, p^{n+1/2})
@@ -476,7 +438,11 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt) {
         throwNonFinite(context, "velocities");
 }
 
-void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) {
+bool DPDSplittingDynamics::kicksShareable(OpenMM::ContextImpl& context) const {
+    return forceKeepingEngine != nullptr && context.getSystem().getNumForces() == 1 && !leesEdwards.isSheared() && !accumulateStress;
+}
+
+void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, bool moreStepsFollow) {
     if (integrator.getStepSize() != stepSize) {
         stepSize = integrator.getStepSize();
         forceAtCurrentPositionsValid = false; // VV's stored random force carries 1/sqrt(dt)
@@ -507,21 +473,29 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     }
     accumulateStress = integrator.getStressAccumulation();
     stepPairStress = DPDPairStressSums();
-    if (scheme == DPDIntegrator::ABOBA && integrator.getForcingMode() == DPDIntegrator::Norton)
-        stepABOBANorton(context, stepSize, integrator);
-    else if (scheme == DPDIntegrator::ABOBA)
-        stepABOBA(context, stepSize, integrator);
-    else if (scheme == DPDIntegrator::S1)
-        stepS1(context, stepSize);
-    else
-        stepVV(context, stepSize);
+    bool shareKick = moreStepsFollow && kicksShareable(context);
+    try {
+        if (scheme == DPDIntegrator::ABOBA && integrator.getForcingMode() == DPDIntegrator::Norton)
+            stepABOBANorton(context, stepSize, integrator);
+        else if (scheme == DPDIntegrator::ABOBA)
+            stepABOBA(context, stepSize, integrator);
+        else if (scheme == DPDIntegrator::S1)
+            stepS1(context, stepSize, shareKick);
+        else
+            stepVV(context, stepSize, shareKick);
+    }
+    catch (...) { // no half-done kick outlives the call
+        velocitiesHaveOpeningKick = velocitiesLackClosingKick = false;
+        forceAtCurrentPositionsValid = false;
+        throw;
+    }
     if (accumulateStress) {
         stress.addPairSums(stepPairStress, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize, state.box);
         stress.addKineticAndConservative(context.getSystem(), state.positions, state.velocities, masses, state.box);
         stress.endSample();
     }
     if (scheme != DPDIntegrator::ABOBA) {
-        forceAtCurrentPositionsValid = true;
+        forceAtCurrentPositionsValid = !velocitiesHaveOpeningKick && !velocitiesLackClosingKick; // else not stored: the next step needs none
         for (int k = 0; k < 3; k++)
             boxOfStoredForce[k] = state.box[k];
     }
