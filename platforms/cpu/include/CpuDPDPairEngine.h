@@ -6,6 +6,7 @@
 #include "CpuDPDCellStress.h"
 #include "CpuDPDCellGrid.h"
 #include "CpuDPDHugePages.h"
+#include "CpuDPDPairBuffer.h"
 #include "CpuDPDSweepPipeline.h"
 #include "CpuDPDPairUpdateBlock.h"
 #include "CpuDPDSuccessiveSweep.h"
@@ -58,16 +59,7 @@ public:
     void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) override;
 
 private:
-    /**
-     * One thread's pairs, colour after colour: sorted indices, 8 bytes a pair; [0, size) is in use.
-     * Distances and unit vectors are recomputed from the sorted positions by each sweep's vector pass,
-     * which is cheaper than storing them.
-     */
-    struct alignas(64) PairBuffer { // one cache line or more of its own: size changes with every particle searched
-        std::size_t size = 0;
-        std::vector<int> i, j;
-        void reserveMore(std::size_t count);
-    };
+    using PairBuffer = CpuDPDPairBuffer;
     /** Run body(thread) on every thread (directly when there is one). */
     void onThreads(const std::function<void(int)>& body);
     /** Give a thread its share of a colour's blocks in blockQueue: about 1/numThreads of the colour's cells. */
