@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_CPUDPDCELLGRID_H_
 #define OPENMMDPD_CPUDPDCELLGRID_H_
 
+#include "CpuDPDHugePages.h"
 #include "openmm/Vec3.h"
 #include <algorithm>
 #include <vector>
@@ -149,6 +150,7 @@ private:
         end = shareBegin(getNumCells(), thread+1, numThreads);
     }
     std::vector<OpenMM::Vec3> wrappedPositions;
+    CpuDPDHugePages hugePages;
 };
 
 } // namespace OpenMMDPD

@@ -60,8 +60,8 @@ public:
 
 private:
     using PairBuffer = CpuDPDPairBuffer;
-    /** Run body(thread) on every thread (directly when there is one). */
-    void onThreads(const std::function<void(int)>& body);
+    /** Run body(thread) on the engine's threads (on the caller alone when there is one: small systems pay no hand-over). */
+    void onThreads(const std::function<void(int)>& body) { threads->runOn(numThreads, body); }
     /** Give a thread its share of a colour's blocks in blockQueue: about 1/numThreads of the colour's cells. */
     void shareBlocksOfColor(int color, int thread);
     /** Find the pairs of a cell into `buffer`; with `repulsion`, add their conservative forces to sortedForces (sorted order). */

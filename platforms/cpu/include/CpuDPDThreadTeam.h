@@ -33,6 +33,8 @@ public:
     int getNumThreads() const { return numThreads; }
     /** Run body(thread) for thread = 0 .. numThreads-1, thread 0 on the caller; returns when all have returned. */
     void run(const std::function<void(int)>& body);
+    /** The same on the first `count` threads only; on the caller alone, with no hand-over, when count is 1. */
+    void runOn(int count, const std::function<void(int)>& body);
 
 private:
     void work(int thread);

@@ -121,6 +121,11 @@ void CpuDPDCellGrid::prepare(int numParticles, const Vec3* box, double radius) {
     sortedX.resize(numParticles+8);
     sortedY.resize(numParticles+8);
     sortedZ.resize(numParticles+8);
+    hugePages.advise(CpuDPDHugePages::WrappedPositions, wrappedPositions); // gathered at random
+    hugePages.advise(CpuDPDHugePages::SortedToOriginal, sortedToOriginal); // placed at random
+    hugePages.advise(CpuDPDHugePages::SortedX, sortedX);
+    hugePages.advise(CpuDPDHugePages::SortedY, sortedY);
+    hugePages.advise(CpuDPDHugePages::SortedZ, sortedZ);
 }
 
 namespace {

@@ -16,20 +16,6 @@ CpuDPDPairEngine::CpuDPDPairEngine(int numThreads)
     : threads(CpuDPDThreadTeam::shared(numThreads)), numThreads(numThreads), barrier(numThreads), buffers(numThreads),
       candidateSets(numThreads), blocks(numStreams*numThreads) {}
 
-void CpuDPDPairEngine::onThreads(const std::function<void(int)>& body) {
-    if (numThreads == 1) { // no hand-over to a worker thread: small systems pay no fixed cost per call
-        body(0);
-        return;
-    }
-    if (numThreads == threads->getNumThreads())
-        threads->run(body);
-    else
-        threads->run([&](int thread) {
-            if (thread < numThreads)
-                body(thread);
-        });
-}
-
 void CpuDPDPairEngine::forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) {
     // A kick or drift costs a few ns a particle, a hand-over to the team about a microsecond (N = 4 000,
     // 2 threads: 1024 per thread made the step 3.5 % faster than 4096).
@@ -126,9 +112,9 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
                                    const DPDTypePairTable::Compiled* repulsion, std::vector<Vec3>* forces) {
     this->radius = radius;
     int numParticles = static_cast<int>(positions.size());
-    hugePages.advise(CpuDPDHugePages::Positions, positions.data(), positions.size()*sizeof(Vec3));
+    hugePages.advise(CpuDPDHugePages::Positions, positions);
     if (forces != nullptr)
-        hugePages.advise(CpuDPDHugePages::Forces, forces->data(), forces->size()*sizeof(Vec3));
+        hugePages.advise(CpuDPDHugePages::Forces, *forces);
     grid.prepare(numParticles, box, radius);
     int numCells = grid.getNumCells();
     // Threads pay off only when each has enough cells of a colour between two barriers; otherwise the
@@ -151,6 +137,7 @@ double CpuDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec
     if (repulsion != nullptr) {
         sortedRepulsionType.resize(numParticles);
         sortedForces.resize(numParticles);
+        hugePages.advise(CpuDPDHugePages::SortedForces, sortedForces);
         secondPartForces.resize(smallGrid ? numParticles : 0);
         inverseRepulsionCutoff.resize(repulsion->cutoff.size());
         for (std::size_t k = 0; k < inverseRepulsionCutoff.size(); k++)
@@ -393,7 +380,8 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     const std::vector<int>& original = grid.sortedToOriginal;
     int numParticles = static_cast<int>(original.size());
     sortedVelocities.resize(original.size());
-    hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
+    hugePages.advise(CpuDPDHugePages::SortedVelocities, sortedVelocities);
+    hugePages.advise(CpuDPDHugePages::Velocities, velocities);
     if (response != nullptr)
         sortedResponse.resize(original.size());
     // ABOBA's first kick in the gather, its second in the scatter (DPDPairSweep::flankingKick), with the forces of this engine's search.
@@ -507,7 +495,9 @@ void CpuDPDPairEngine::sweepDissipativeAndRandomForces(const DPDPairSweep& sweep
     const std::vector<int>& original = grid.sortedToOriginal;
     sortedVelocities.resize(original.size());
     sortedResult.resize(original.size());
-    hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
+    hugePages.advise(CpuDPDHugePages::SortedVelocities, sortedVelocities);
+    hugePages.advise(&sortedResult == &sortedForces ? CpuDPDHugePages::SortedForces : CpuDPDHugePages::SortedDissipativeAndRandomForces, sortedResult);
+    hugePages.advise(CpuDPDHugePages::Velocities, velocities);
     Vec3* result = sortedResult.data();
     auto gather = [&](int begin, int end) {
         for (int s = begin; s < end; s++) {
@@ -546,7 +536,7 @@ void CpuDPDPairEngine::sweepDissipativeAndRandomForces(const DPDPairSweep& sweep
 
 void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,
                                                      std::vector<Vec3>& forces) {
-    hugePages.advise(CpuDPDHugePages::Forces, forces.data(), forces.size()*sizeof(Vec3));
+    hugePages.advise(CpuDPDHugePages::Forces, forces);
     sweepDissipativeAndRandomForces(sweep, velocities, sortedForces, [&](int thread) {
         grid.forEachLocatedParticle(thread, [&](int i, int s) { forces[i] += sortedForces[s]; });
     });
@@ -555,11 +545,11 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
 bool CpuDPDPairEngine::kickWithKeptForces(const DPDKeptForceKick& kick, const DPDPairSweep* dissipativeAndRandom, std::vector<Vec3>& velocities) {
     // Each thread kicks the particles it located, reading their forces in sorted order: the forces' one way to
     // System order (instead of a scatter into the Context's forces, a pass that clears them and a kick pass).
-    hugePages.advise(CpuDPDHugePages::Velocities, velocities.data(), velocities.size()*sizeof(Vec3));
+    hugePages.advise(CpuDPDHugePages::Velocities, velocities);
     Vec3* stored = nullptr;
     if (kick.storedForces != nullptr) {
         kick.storedForces->resize(velocities.size());
-        hugePages.advise(CpuDPDHugePages::StoredForces, kick.storedForces->data(), kick.storedForces->size()*sizeof(Vec3));
+        hugePages.advise(CpuDPDHugePages::StoredForces, *kick.storedForces);
         stored = kick.storedForces->data();
     }
     std::vector<char> finite(numThreads, 1);

@@ -39,6 +39,18 @@ std::shared_ptr<CpuDPDThreadTeam> CpuDPDThreadTeam::shared(int numThreads) {
     return team;
 }
 
+void CpuDPDThreadTeam::runOn(int count, const std::function<void(int)>& body) {
+    if (count == 1)
+        body(0);
+    else if (count == numThreads)
+        run(body);
+    else
+        run([&](int thread) {
+            if (thread < count)
+                body(thread);
+        });
+}
+
 void CpuDPDThreadTeam::run(const std::function<void(int)>& body) {
     if (numThreads == 1) {
         body(0);
