@@ -71,6 +71,21 @@ private:
     void searchSmallGridParts(int thread, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion);
     /** The first sorted particle of a thread's share of [0, numParticles). */
     int particleRangeBegin(int thread, int numParticles) const { return CpuDPDCellGrid::shareBegin(numParticles, thread, numThreads); }
+    /**
+     * visit(i, s) for the particles whose results thread t writes back to System order.  Several
+     * threads in a large box (sortedWriteBack): its own sorted range, read in order and stored at
+     * random (System order is far larger than the caches, so a store at random misses anyway, while
+     * the sorted data are this thread's).  Otherwise those it located (forEachLocatedParticle): no
+     * cache line of System order takes writes from two threads, which counts while it fits a cache.
+     */
+    template <class Visit>
+    void forEachWriteBack(int thread, Visit visit) const {
+        if (!sortedWriteBack)
+            return grid.forEachLocatedParticle(thread, visit);
+        int numParticles = static_cast<int>(grid.sortedToOriginal.size());
+        for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
+            visit(grid.sortedToOriginal[s], s);
+    }
     using ParticleRangeTask = std::function<void(int begin, int end)>;
     /**
      * Consecutive cells [cellBegin, cellEnd) of sweep order (whole blocks of one colour, or a small
@@ -140,6 +155,7 @@ private:
     bool forcesStaySorted = false;                    // keepForcesSorted: the search's forces stay in sortedForces (a small grid's two parts summed there)
     CpuDPDHugePages hugePages;                        // OpenMM's arrays, which the engine reads and writes at random
     bool smallGrid = false;                           // one block per colour (findPairs)
+    bool sortedWriteBack = false;                     // forEachWriteBack from sorted ranges (findPairs)
     std::vector<OpenMM::Vec3> secondPartForces;       // a small grid's second search part's forces (sorted order)
     CpuDPDSweepPipeline sweepPipeline;                // a small grid's sweep in pieces, shared by two threads
     std::vector<CpuDPDPairUpdateBlock> pieceBlocks;   // the pieces' coefficients
