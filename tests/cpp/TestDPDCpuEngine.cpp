@@ -372,7 +372,8 @@ TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
     // larger one, on 1 and 2 threads, with masses that differ between particles, and with the friction
     // cutoff raised past the DPDForce's once bound (the integrator's own pairs then: the kept forces
     // reach the Context after all).  Within one step(15) call VV and S1 also share the kick between two
-    // steps (DPDSplittingDynamics::kicksShareable); fifteen step(1) calls share none: the same bits again.
+    // steps, ABOBA the drift (DPDSplittingDynamics::stepsMayShareWork); fifteen step(1) calls share
+    // none: the same bits again.
     auto run = [](const System& system, const EquilibratedFluid& start, const std::string& scheme, double frictionCutoff, int threads,
                   int calls = 1) {
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
@@ -407,17 +408,18 @@ TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
 }
 
 TEST(CpuPairEngine, KicksAreSharedOnlyWhereNothingLooksBetweenSteps) {
-    // VV and S1 share the kick between two steps of one step(n) call only when nothing can see the
-    // velocities between them (DPDSplittingDynamics::kicksShareable).  A CMMotionRemover changes the
+    // VV and S1 share the kick between two steps of one step(n) call, ABOBA the drift, only when nothing
+    // can see the state between them (DPDSplittingDynamics::stepsMayShareWork).  A CMMotionRemover changes the
     // velocities between steps (in a force group the integrator leaves out, so the DPDForce is still
     // the one integrated force), and stress samples read them at each step's end: with either, one
     // step(10) call must give what ten step(1) calls give, bit for bit (if the kick were shared, the
-    // remover and the kinetic stress would see v^{n+1/2} instead of v^{n+1}).
+    // remover and the kinetic stress would see v^{n+1/2} instead of v^{n+1}; if the drift were, the
+    // remover would change the velocities of a drift still to come, the stress see q^{n+1/2}).
     EquilibratedFluid start = equilibratedSoftFluid(500, 3.0, 10);
     std::unique_ptr<System> withRemover(XmlSerializer::clone<System>(*start.fluid.system));
     withRemover->addForce(new CMMotionRemover(1));
     withRemover->getForce(withRemover->getNumForces()-1).setForceGroup(1);
-    for (const char* scheme : {"VV", "S1"})
+    for (const char* scheme : {"ABOBA", "VV", "S1"})
         for (bool stress : {false, true}) {
             SCOPED_TRACE(std::string(scheme) + (stress ? ", stress samples" : ", a CMMotionRemover"));
             Snapshot result[2];

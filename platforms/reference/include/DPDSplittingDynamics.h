@@ -44,8 +44,8 @@ public:
     DPDSplittingDynamics(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, DPDPairEngineFactory makeEngine);
 
     /**
-     * Take one step of the integrator's scheme.  moreStepsFollow (IntegrateDPDStepKernel::execute): VV
-     * and S1 may share the kick between this step and the next (kicksShareable).
+     * Take one step of the integrator's scheme.  moreStepsFollow (IntegrateDPDStepKernel::execute): this
+     * step and the next may share a kick or a drift (stepsMayShareWork).
      */
     void step(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, bool moreStepsFollow);
     double computeKineticEnergy(OpenMM::ContextImpl& context) const;
@@ -65,12 +65,13 @@ private:
     struct ContextArrays;
     ContextArrays arrays(OpenMM::ContextImpl& context) const;
 
-    void stepABOBA(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator);
+    /** shareDrift: leave this step's closing drift to the next step's opening drift, one pass for both (stepsMayShareWork). */
+    void stepABOBA(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator, bool shareDrift);
     /** ABOBA-Norton, Wu & Shang eqs. 52-70. */
     void stepABOBANorton(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator);
-    /** shareKick: leave this step's closing kick to the next step's O sweep (kicksShareable). */
+    /** shareKick: leave this step's closing kick to the next step's O sweep (stepsMayShareWork). */
     void stepS1(OpenMM::ContextImpl& context, double dt, bool shareKick);
-    /** shareKick: give the velocities the next step's opening kick with this step's closing kick (kicksShareable). */
+    /** shareKick: give the velocities the next step's opening kick with this step's closing kick (stepsMayShareWork). */
     void stepVV(OpenMM::ContextImpl& context, double dt, bool shareKick);
 
     /** A kick B(dt) that drift() applies first, particle by particle in its own pass (one pass instead of two). */
@@ -80,12 +81,13 @@ private:
         std::atomic<bool> velocitiesFinite{true}; // after the kick
     };
     /**
-     * q += dt v (sheared: DPDLeesEdwardsFlow::drift), after `kick` if given; returns the index of the
-     * first particle whose position became non-finite or that moved more than half the box, or -1 if
-     * every particle is sound.  Virtual sites follow their parents.
+     * q += dt v (sheared: DPDLeesEdwardsFlow::drift), after `kick` if given, `times` times in one pass
+     * (2: ABOBA's closing and opening drifts, unsheared); returns the index of the first particle whose
+     * position became non-finite or that moved more than half the box, or -1 if every particle is
+     * sound.  Virtual sites follow their parents.
      */
     int drift(OpenMM::ContextImpl& context, std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities,
-              double dt, KickFirst* kick = nullptr);
+              double dt, KickFirst* kick = nullptr, int times = 1);
     /** Apply changes made to the integrator's friction table since the last step (validated here). */
     void applyFrictionTableChanges(OpenMM::ContextImpl& context, const DPDIntegrator& integrator);
     /** Throw, naming the particle, if a position or velocity set from outside is not finite. */
@@ -163,13 +165,15 @@ private:
      * at the positions of the step's end.  Within one step(n) call, with the forces kept in the
      * engine, they are applied in one pass: VV's closing pass kicks twice (the velocities are then
      * v^{n+3/2}, and the next step only drifts), S1's closing kick waits for the next step's O sweep,
-     * which kicks as it gathers and again as it scatters (ABOBA's B O B).  The same arithmetic in the
-     * same order: the same bits.  Only where nothing can look at the velocities between the two steps:
-     * the System's one force is the DPDForce, no shear, no stress samples (kicksShareable).
+     * which kicks as it gathers and again as it scatters (ABOBA's B O B).  Likewise ABOBA's closing
+     * drift A(h/2) waits for the next step's opening one, both in one pass.  The same arithmetic in the
+     * same order: the same bits.  Only where nothing can look at the state between the two steps:
+     * the System's one force is the DPDForce, no shear, no stress samples, no NEMD (stepsMayShareWork).
      */
-    bool kicksShareable(OpenMM::ContextImpl& context) const;
+    bool stepsMayShareWork(OpenMM::ContextImpl& context) const;
     bool velocitiesHaveOpeningKick = false; // VV: the Context's velocities are already kicked for this step's drift
     bool velocitiesLackClosingKick = false; // S1: the previous step's closing kick is still to come, with the engine's kept forces
+    bool positionsLackClosingDrift = false; // ABOBA: the previous step's closing drift is still to come
 };
 
 } // namespace OpenMMDPD

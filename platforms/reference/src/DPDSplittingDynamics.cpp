@@ -103,7 +103,7 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
 }
 
 int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>& positions, std::vector<Vec3>& velocities,
-                                double dt, KickFirst* kick) {
+                                double dt, KickFirst* kick, int times) {
     if (kick != nullptr && leesEdwards.isSheared()) { // the sheared drift is a pass of its own
         if (!this->kick(velocities, kick->forces, kick->dt))
             kick->velocitiesFinite.store(false);
@@ -133,7 +133,8 @@ int DPDSplittingDynamics::drift(OpenMM::ContextImpl& context, std::vector<Vec3>&
                 if constexpr (decltype(withKick)::value)
                     allFinite &= DPDPairEngine::kickVelocity(velocities[i], kick->forces[i], kick->dt*inverseMasses[i]);
                 Vec3 displacement = displacementOf(i);
-                positions[i] += displacement;
+                for (int k = 0; k < times; k++)
+                    positions[i] += displacement;
                 allSound &= isSound(displacement, positions[i]);
             }
         };
@@ -278,10 +279,12 @@ void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const ch
     throw OpenMM::OpenMMException(message.str());
 }
 
-void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator) {
+void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator, bool shareDrift) {
     ContextArrays state = arrays(context);
     bool nemd = integrator.getForcingMode() == DPDIntegrator::NEMD;
-    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt); particle >= 0) // A(dt/2), eq. 2.19
+    int drifts = positionsLackClosingDrift ? 2 : 1; // with the last step's eq. 2.24
+    positionsLackClosingDrift = false;
+    if (int particle = drift(context, state.positions, state.velocities, 0.5*dt, nullptr, drifts); particle >= 0) // A(dt/2), eq. 2.19
         throwNonFinite(context, "positions", particle);
     moveImages(context, 0.5*dt);                                                // Lees-Edwards offset at t + h/2 (h/2 < h: no wrap)
     bool flankingKicks = false; // B O B in the sweep's own passes, with the forces its engine kept (DPDPairSweep::flankingKick)
@@ -310,6 +313,13 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
             forcing.applyImpulse(0.5*dt*eta, state.velocities, inverseMasses);
         }
     }
+    forceAtCurrentPositionsValid = false;
+    if (flankingKicks && shareDrift) {                                          // A(dt/2), eq. 2.24, in the next step's drift pass
+        if (!lastKick.velocitiesFinite.load())
+            throwNonFinite(context, "velocities");
+        positionsLackClosingDrift = true;
+        return;
+    }
     bool kickInDrift = !nemd && !flankingKicks;
     int unsound = drift(context, state.positions, state.velocities, 0.5*dt, kickInDrift ? &lastKick : nullptr); // A(dt/2), eq. 2.24
     if (!lastKick.velocitiesFinite.load())
@@ -323,7 +333,6 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
         transport.responseSum += transport.lastResponse;
         transport.steps++;
     }
-    forceAtCurrentPositionsValid = false;
 }
 
 void DPDSplittingDynamics::stepABOBANorton(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator) {
@@ -438,7 +447,7 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt, bool 
         throwNonFinite(context, "velocities");
 }
 
-bool DPDSplittingDynamics::kicksShareable(OpenMM::ContextImpl& context) const {
+bool DPDSplittingDynamics::stepsMayShareWork(OpenMM::ContextImpl& context) const {
     return forceKeepingEngine != nullptr && context.getSystem().getNumForces() == 1 && !leesEdwards.isSheared() && !accumulateStress;
 }
 
@@ -473,19 +482,19 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     }
     accumulateStress = integrator.getStressAccumulation();
     stepPairStress = DPDPairStressSums();
-    bool shareKick = moreStepsFollow && kicksShareable(context);
+    bool shareWork = moreStepsFollow && stepsMayShareWork(context);
     try {
         if (scheme == DPDIntegrator::ABOBA && integrator.getForcingMode() == DPDIntegrator::Norton)
             stepABOBANorton(context, stepSize, integrator);
         else if (scheme == DPDIntegrator::ABOBA)
-            stepABOBA(context, stepSize, integrator);
+            stepABOBA(context, stepSize, integrator, shareWork); // never with NEMD: its kicks are not in the sweep
         else if (scheme == DPDIntegrator::S1)
-            stepS1(context, stepSize, shareKick);
+            stepS1(context, stepSize, shareWork);
         else
-            stepVV(context, stepSize, shareKick);
+            stepVV(context, stepSize, shareWork);
     }
     catch (...) { // no half-done kick outlives the call
-        velocitiesHaveOpeningKick = velocitiesLackClosingKick = false;
+        velocitiesHaveOpeningKick = velocitiesLackClosingKick = positionsLackClosingDrift = false;
         forceAtCurrentPositionsValid = false;
         throw;
     }
