@@ -36,7 +36,7 @@ OURS = ["ABOBA", "VV", "S1"]
 LAMMPS = ["LAMMPS-VV", "LAMMPS-Shardlow"]
 # Rough microseconds per particle-step, to give each run about `seconds` of stepping.
 CUSTOM = ["ABOBA-CustomNonbonded", "OpenMM-Verlet-CustomNonbonded"]
-GUESS = {"ABOBA": 0.4, "VV": 0.4, "S1": 0.4, "OpenMM-DPD": 12.0, "ABOBA-CustomNonbonded": 3.0, "OpenMM-Verlet-CustomNonbonded": 2.6, "OpenMM-arrays": 0.05, "LAMMPS-VV": 1.4, "LAMMPS-Shardlow": 2.8}
+GUESS = {"ABOBA": 0.25, "VV": 0.25, "S1": 0.25, "OpenMM-DPD": 12.0, "ABOBA-CustomNonbonded": 3.0, "OpenMM-Verlet-CustomNonbonded": 2.6, "OpenMM-arrays": 0.05, "LAMMPS-VV": 1.4, "LAMMPS-Shardlow": 2.8}
 LEGEND = {
     "ABOBA": "openmmdpd DPDIntegrator scheme ABOBA + DPDForce (CPU platform)",
     "VV": "openmmdpd DPDIntegrator scheme VV + DPDForce (CPU platform)",
