@@ -165,7 +165,11 @@ public:
 
     /**
      * Advance the simulation.  A step that produces a non-finite position or velocity throws an
-     * OpenMMException naming the step, the scheme and the step size.
+     * OpenMMException naming the step, the scheme and the step size.  Within one call, when the
+     * System's one force is the integrated DPDForce (no shear, no stress samples), neighbouring steps
+     * share a pass: a kick with the same forces (VV, S1) or a drift with the same velocities (ABOBA)
+     * is done once for both, with the same bits; S1 then reports velocities made non-finite by a
+     * step's closing kick at the next step, where that kick is done.
      */
     void step(int steps) override;
 
