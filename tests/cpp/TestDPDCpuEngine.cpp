@@ -440,8 +440,9 @@ TEST(CpuPairEngine, KicksAreSharedOnlyWhereNothingLooksBetweenSteps) {
             EXPECT_TRUE(bitIdentical(result[0], result[1]));
             for (int k = 0; k < 9; k++)
                 EXPECT_EQ(statistics[0].kinetic[k], statistics[1].kinetic[k]) << k;
-            if (stress)
+            if (stress) {
                 EXPECT_NE(statistics[0].kinetic[0], 0.0);
+            }
         }
 }
 
