@@ -86,6 +86,12 @@ private:
         for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
             visit(grid.sortedToOriginal[s], s);
     }
+    /**
+     * Whether a thread's write-back reads sorted entries that other threads swept (several threads
+     * writing back the particles they located): results it can finish on its own sorted range first
+     * (a second kick, VV's force sum) are then better finished there, before a barrier.
+     */
+    bool writeBackReadsOtherThreads() const { return numThreads > 1 && !smallGrid && !sortedWriteBack; }
     using ParticleRangeTask = std::function<void(int begin, int end)>;
     /**
      * Consecutive cells [cellBegin, cellEnd) of sweep order (whole blocks of one colour, or a small

@@ -456,7 +456,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             return;
         }
         bool allFinite = true;
-        if (numThreads > 1 && !smallGrid && !sortedWriteBack) {
+        if (writeBackReadsOtherThreads()) {
             // The second kick first, on the thread's own sorted range (in its cache): the scatter of the
             // particles it located then reads no forces that another thread swept.
             for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
@@ -547,8 +547,8 @@ void CpuDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, 
 }
 
 bool CpuDPDPairEngine::kickWithKeptForces(const DPDKeptForceKick& kick, const DPDPairSweep* dissipativeAndRandom, std::vector<Vec3>& velocities) {
-    // Each thread kicks the particles it located, reading their forces in sorted order: the forces' one way to
-    // System order (instead of a scatter into the Context's forces, a pass that clears them and a kick pass).
+    // Each thread kicks the particles it writes back (forEachWriteBack), reading their forces in sorted order: the
+    // forces' one way to System order (instead of a scatter into the Context's forces, a pass that clears them and a kick pass).
     hugePages.advise(CpuDPDHugePages::Velocities, velocities);
     Vec3* stored = nullptr;
     if (kick.storedForces != nullptr) {
@@ -559,7 +559,7 @@ bool CpuDPDPairEngine::kickWithKeptForces(const DPDKeptForceKick& kick, const DP
     std::vector<char> finite(numThreads, 1);
     // After VV's sweep, a particle's velocity is also in sortedVelocities (gathered, not changed): read
     // there in order, it is only written at random (a store does not hold the processor up as a load does).
-    auto kickLocatedParticles = [&](int thread, auto afterSweep, auto addDissipativeAndRandom) {
+    auto kickOnWriteBack = [&](int thread, auto afterSweep, auto addDissipativeAndRandom) {
         bool allFinite = true;
         forEachWriteBack(thread, [&](int i, int s) {
             Vec3 force = sortedForces[s];
@@ -577,20 +577,20 @@ bool CpuDPDPairEngine::kickWithKeptForces(const DPDKeptForceKick& kick, const DP
         finite[thread] = allFinite;
     };
     if (dissipativeAndRandom == nullptr) { // S1: the conservative forces alone
-        onThreads([&](int thread) { kickLocatedParticles(thread, std::false_type(), std::false_type()); });
+        onThreads([&](int thread) { kickOnWriteBack(thread, std::false_type(), std::false_type()); });
         return std::all_of(finite.begin(), finite.end(), [](char each) { return each != 0; });
     }
     // VV: F^C + F^D + F^R.  On several threads, the sums first, each thread on its own sorted range (in
     // its cache), so that the kick reads one force that another thread may have swept, not two.
-    bool sumFirst = numThreads > 1 && !smallGrid && !sortedWriteBack;
+    bool sumFirst = writeBackReadsOtherThreads();
     int numParticles = static_cast<int>(grid.sortedToOriginal.size());
     sweepDissipativeAndRandomForces(*dissipativeAndRandom, velocities, sortedDissipativeAndRandomForces, [&](int thread) {
         if (!sumFirst)
-            return kickLocatedParticles(thread, std::true_type(), std::true_type());
+            return kickOnWriteBack(thread, std::true_type(), std::true_type());
         for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
             sortedForces[s] += sortedDissipativeAndRandomForces[s];
         barrier.wait();
-        kickLocatedParticles(thread, std::true_type(), std::false_type());
+        kickOnWriteBack(thread, std::true_type(), std::false_type());
     });
     return std::all_of(finite.begin(), finite.end(), [](char each) { return each != 0; });
 }

@@ -171,9 +171,13 @@ private:
      * the System's one force is the DPDForce, no shear, no stress samples, no NEMD (stepsMayShareWork).
      */
     bool stepsMayShareWork(OpenMM::ContextImpl& context) const;
-    bool velocitiesHaveOpeningKick = false; // VV: the Context's velocities are already kicked for this step's drift
-    bool velocitiesLackClosingKick = false; // S1: the previous step's closing kick is still to come, with the engine's kept forces
-    bool positionsLackClosingDrift = false; // ABOBA: the previous step's closing drift is still to come
+    enum class SharedPass {
+        None,
+        OpeningKickDone,     // VV: the Context's velocities are already kicked for this step's drift
+        ClosingKickPending,  // S1: the previous step's closing kick is still to come, with the engine's kept forces
+        ClosingDriftPending  // ABOBA: the previous step's closing drift is still to come
+    };
+    SharedPass sharedPass = SharedPass::None; // what the previous step of this call left to this one
 };
 
 } // namespace OpenMMDPD

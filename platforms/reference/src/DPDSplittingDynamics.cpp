@@ -18,6 +18,7 @@
 #include <random>
 #include <sstream>
 #include <type_traits>
+#include <utility>
 
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
@@ -282,8 +283,7 @@ void DPDSplittingDynamics::throwNonFinite(OpenMM::ContextImpl& context, const ch
 void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, const DPDIntegrator& integrator, bool shareDrift) {
     ContextArrays state = arrays(context);
     bool nemd = integrator.getForcingMode() == DPDIntegrator::NEMD;
-    int drifts = positionsLackClosingDrift ? 2 : 1; // with the last step's eq. 2.24
-    positionsLackClosingDrift = false;
+    int drifts = std::exchange(sharedPass, SharedPass::None) == SharedPass::ClosingDriftPending ? 2 : 1; // with the last step's eq. 2.24
     if (int particle = drift(context, state.positions, state.velocities, 0.5*dt, nullptr, drifts); particle >= 0) // A(dt/2), eq. 2.19
         throwNonFinite(context, "positions", particle);
     moveImages(context, 0.5*dt);                                                // Lees-Edwards offset at t + h/2 (h/2 < h: no wrap)
@@ -317,7 +317,7 @@ void DPDSplittingDynamics::stepABOBA(OpenMM::ContextImpl& context, double dt, co
     if (flankingKicks && shareDrift) {                                          // A(dt/2), eq. 2.24, in the next step's drift pass
         if (!lastKick.velocitiesFinite.load())
             throwNonFinite(context, "velocities");
-        positionsLackClosingDrift = true;
+        sharedPass = SharedPass::ClosingDriftPending;
         return;
     }
     bool kickInDrift = !nemd && !flankingKicks;
@@ -381,8 +381,8 @@ void DPDSplittingDynamics::stepABOBANorton(OpenMM::ContextImpl& context, double 
 
 void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt, bool shareKick) {
     ContextArrays state = arrays(context);
-    bool kicksInSweep = velocitiesLackClosingKick; // the last step's closing kick as the sweep gathers, this step's B(dt/2) as it scatters
-    velocitiesLackClosingKick = false;
+    // The last step's closing kick as the sweep gathers, this step's B(dt/2) as it scatters.
+    bool kicksInSweep = std::exchange(sharedPass, SharedPass::None) == SharedPass::ClosingKickPending;
     if (!kicksInSweep && (!forceAtCurrentPositionsValid || pairsAtCurrentPositions == nullptr)) {
         evaluateForcesAndPairs(context);
         storeForces(state.forces);
@@ -405,7 +405,7 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt, bool 
     bool forcesKept = false;
     DPDPairEngine& pairs = evaluateForcesAndPairs(context, &forcesKept);        // at q^{n+1}, reused next step
     if (forcesKept && shareKick) {                                              // B(dt/2), eq. 2.13c, in the next step's sweep
-        velocitiesLackClosingKick = true;
+        sharedPass = SharedPass::ClosingKickPending;
         return;
     }
     bool finite = forcesKept ? pairs.kickWithKeptForces({0.5*dt, inverseMasses, uniformInverseMass, 1, &forceAtCurrentPositions}, nullptr, state.velocities)
@@ -416,8 +416,7 @@ void DPDSplittingDynamics::stepS1(OpenMM::ContextImpl& context, double dt, bool 
 
 void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt, bool shareKick) {
     ContextArrays state = arrays(context);
-    bool openingKickDone = velocitiesHaveOpeningKick; // by the last step's closing pass
-    velocitiesHaveOpeningKick = false;
+    bool openingKickDone = std::exchange(sharedPass, SharedPass::None) == SharedPass::OpeningKickDone; // by the last step's closing pass
     if (!openingKickDone && !forceAtCurrentPositionsValid) {
         DPDPairEngine& pairs = evaluateForcesAndPairs(context);
         storeForces(state.forces);
@@ -436,7 +435,8 @@ void DPDSplittingDynamics::stepVV(OpenMM::ContextImpl& context, double dt, bool 
         DPDKeptForceKick closingKick{0.5*dt, inverseMasses, uniformInverseMass, shareKick ? 2 : 1, // with the next step's eq. 2.3a when shared
                                      shareKick ? nullptr : &forceAtCurrentPositions};
         finite = pairs.kickWithKeptForces(closingKick, &sweep, state.velocities);
-        velocitiesHaveOpeningKick = shareKick;
+        if (shareKick)
+            sharedPass = SharedPass::OpeningKickDone;
     }
     else {
         if (!friction.allValuesZero)                                            // at (q^{n+1}, p^{n+1/2})
@@ -494,7 +494,7 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
             stepVV(context, stepSize, shareWork);
     }
     catch (...) { // no half-done kick outlives the call
-        velocitiesHaveOpeningKick = velocitiesLackClosingKick = positionsLackClosingDrift = false;
+        sharedPass = SharedPass::None;
         forceAtCurrentPositionsValid = false;
         throw;
     }
@@ -504,7 +504,7 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
         stress.endSample();
     }
     if (scheme != DPDIntegrator::ABOBA) {
-        forceAtCurrentPositionsValid = !velocitiesHaveOpeningKick && !velocitiesLackClosingKick; // else not stored: the next step needs none
+        forceAtCurrentPositionsValid = sharedPass == SharedPass::None; // else not stored: the next step needs none
         for (int k = 0; k < 3; k++)
             boxOfStoredForce[k] = state.box[k];
     }
