@@ -7,6 +7,7 @@ using namespace OpenMMDPD;
 void DPDForceImpl::initialize(OpenMM::ContextImpl& context) {
     kernel = context.getPlatform().createKernel(CalcDPDForceKernel::Name(), context);
     kernel.getAs<CalcDPDForceKernel>().initialize(context.getSystem(), owner);
+    parametersInContext = owner.getTable().compile(context.getSystem().getNumParticles());
 }
 
 double DPDForceImpl::calcForcesAndEnergy(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy, int groups) {
@@ -21,5 +22,7 @@ std::vector<std::string> DPDForceImpl::getKernelNames() {
 
 void DPDForceImpl::updateParametersInContext(OpenMM::ContextImpl& context) {
     kernel.getAs<CalcDPDForceKernel>().copyParametersToContext(context, owner);
+    parametersInContext = owner.getTable().compile(context.getSystem().getNumParticles());
+    parametersInContextRevision++;
     context.systemChanged();
 }

@@ -1,4 +1,5 @@
 #include "openmmdpd/DPDObservables.h"
+#include "openmmdpd/internal/DPDContextAccess.h"
 #include "openmmdpd/internal/DPDPairPotentialTerms.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/OpenMMException.h"
@@ -22,6 +23,14 @@ void forEachPairWithin(const OpenMM::State& state, double maxDistance, const std
     state.getPeriodicBoxVectors(box[0], box[1], box[2]);
     DPDPeriodicBox::checkCutoff("DPDObservables", maxDistance, box);
     const std::vector<Vec3>& positions = state.getPositions();
+    // A non-finite position has no distance to anything: the neighbour search would drop it silently.
+    for (std::size_t i = 0; i < positions.size(); i++)
+        if (!std::isfinite(positions[i][0]) || !std::isfinite(positions[i][1]) || !std::isfinite(positions[i][2])) {
+            std::stringstream message;
+            message << "DPDObservables: particle " << i << " has a non-finite position (" << positions[i][0] << ", " << positions[i][1]
+                    << ", " << positions[i][2] << "); pair observables need every position finite";
+            throw OpenMM::OpenMMException(message.str());
+        }
     OpenMM::NeighborList neighbors;
     std::vector<std::set<int> > noExclusions(positions.size());
     OpenMM::computeNeighborListVoxelHash(neighbors, positions.size(), positions, noExclusions, box, true, maxDistance);
@@ -39,11 +48,17 @@ double volume(const OpenMM::State& state) {
     return a[0]*b[1]*c[2];
 }
 
+/** The force groups whose forces move the particles: the observables measure the potential of these forces. */
+int dynamicsForceGroups(OpenMM::Context& context) {
+    return context.getIntegrator().getIntegrationForceGroups();
+}
+
 } // namespace
 
 DPDObservables::ConfigurationalSums DPDObservables::configurationalSums(OpenMM::Context& context) {
-    DPDPairPotentialTerms potential(context.getSystem());
-    OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Forces);
+    int groups = dynamicsForceGroups(context);
+    DPDPairPotentialTerms potential(DPDContextAccess::implOf(context), groups);
+    OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Forces, false, groups);
     ConfigurationalSums sums{0.0, 0.0};
     for (const Vec3& force : state.getForces())
         sums.gradientSquared += force.dot(force);
@@ -86,7 +101,7 @@ double DPDObservables::kineticTemperature(OpenMM::Context& context) {
 }
 
 double DPDObservables::virialPressure(OpenMM::Context& context) {
-    DPDPairPotentialTerms potential(context.getSystem());
+    DPDPairPotentialTerms potential(DPDContextAccess::implOf(context), dynamicsForceGroups(context));
     OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Energy);
     double virial = 0.0; // sum over pairs of r . F_ij = -r u'(r)
     forEachPairWithin(state, potential.getMaxCutoff(), [&](int i, int j, double r) {

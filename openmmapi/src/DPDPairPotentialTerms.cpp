@@ -1,104 +1,230 @@
 #include "openmmdpd/internal/DPDPairPotentialTerms.h"
+#include "openmmdpd/internal/DPDForceImpl.h"
 #include "openmmdpd/DPDForce.h"
+#include "openmm/AndersenThermostat.h"
 #include "openmm/CMMotionRemover.h"
 #include "openmm/CustomNonbondedForce.h"
+#include "openmm/MonteCarloAnisotropicBarostat.h"
+#include "openmm/MonteCarloBarostat.h"
+#include "openmm/MonteCarloFlexibleBarostat.h"
+#include "openmm/MonteCarloMembraneBarostat.h"
 #include "openmm/OpenMMException.h"
 #include "lepton/ParsedExpression.h"
 #include "lepton/Parser.h"
 #include <algorithm>
 #include <map>
+#include <set>
 #include <sstream>
+#include <string>
+#include <unordered_set>
 
 using namespace OpenMMDPD;
 
 struct DPDPairPotentialTerms::Term {
     virtual ~Term() = default;
     virtual double cutoff() const = 0;
-    virtual void addDerivatives(int i, int j, double r, double& first, double& second) const = 0;
+    virtual void refresh(OpenMM::ContextImpl& context) = 0;
+    virtual void addTerms(int i, int j, double r, double& energy, double& first, double& second) const = 0;
 };
 
 namespace {
 
-/** u = a r_c/2 (1 - r/r_c)^2: u' = -a (1 - r/r_c), u'' = a/r_c (Shang 2021 eq. 1.3). */
+/** u = a r_c/2 (1 - r/r_c)^2: u' = -a (1 - r/r_c), u'' = a/r_c (Shang 2021 eq. 1.3), with the parameters in the Context. */
 class SoftRepulsionTerm : public DPDPairPotentialTerms::Term {
 public:
-    SoftRepulsionTerm(const DPDForce& force, int numParticles) : parameters(force.getTable().compile(numParticles)) {}
+    explicit SoftRepulsionTerm(const DPDForceImpl& impl) : impl(impl) { read(); }
     double cutoff() const override { return parameters.maxCutoff; }
-    void addDerivatives(int i, int j, double r, double& first, double& second) const override {
+    void refresh(OpenMM::ContextImpl&) override {
+        if (impl.getParametersInContextRevision() != revision)
+            read();
+    }
+    void addTerms(int i, int j, double r, double& energy, double& first, double& second) const override {
         int ti = parameters.particleTypeIndex[i], tj = parameters.particleTypeIndex[j];
         double rc = parameters.cutoffOf(ti, tj);
         if (r >= rc)
             return;
-        double a = parameters.valueOf(ti, tj);
-        first -= a*(1.0-r/rc);
+        double a = parameters.valueOf(ti, tj), w = 1.0-r/rc;
+        energy += 0.5*a*rc*w*w;
+        first -= a*w;
         second += a/rc;
     }
 
 private:
+    void read() {
+        parameters = impl.getParametersInContext();
+        revision = impl.getParametersInContextRevision();
+    }
+    const DPDForceImpl& impl;
     DPDTypePairTable::Compiled parameters;
+    long long revision = -1;
 };
 
-/** A CustomNonbondedForce's energy expression and its r-derivatives, compiled by Lepton. */
+/**
+ * A CustomNonbondedForce's energy expression and its r-derivatives, compiled by Lepton, with the
+ * Context's global parameter values, the force's per-particle parameters and computed values, its
+ * exclusions and interaction groups, and OpenMM's switching function S(x) = 1 - 10x^3 + 15x^4 - 6x^5,
+ * x = (r - r_s)/(r_c - r_s), multiplying the energy between the switching distance and the cutoff.
+ */
 class CustomPairTerm : public DPDPairPotentialTerms::Term {
 public:
     // Lepton's CompiledExpression is laid out differently with and without OpenMM's JIT (whose
     // headers the OpenMM package does not ship), so the parsed expressions are evaluated directly.
-    explicit CustomPairTerm(const OpenMM::CustomNonbondedForce& force)
-        : force(checked(force)), firstExpression(derivative(force, 1)), secondExpression(derivative(force, 2)) {
-        for (int k = 0; k < force.getNumGlobalParameters(); k++)
-            globals[force.getGlobalParameterName(k)] = force.getGlobalParameterDefaultValue(k);
-    }
-    static const OpenMM::CustomNonbondedForce& checked(const OpenMM::CustomNonbondedForce& force) {
-        if (force.getUseSwitchingFunction() || force.getUseLongRangeCorrection() || force.getNumExclusions() > 0 ||
-            force.getNumInteractionGroups() > 0 || force.getNumTabulatedFunctions() > 0 ||
-            force.getNonbondedMethod() == OpenMM::CustomNonbondedForce::NoCutoff)
-            throw OpenMM::OpenMMException("DPDObservables: a CustomNonbondedForce with a switching function, long-range correction, "
-                                          "exclusions, interaction groups, tabulated functions or no cutoff is not supported");
-        return force;
-    }
-    static Lepton::ParsedExpression derivative(const OpenMM::CustomNonbondedForce& force, int order) {
-        Lepton::ParsedExpression expression = Lepton::Parser::parse(force.getEnergyFunction());
-        for (int k = 0; k < order; k++)
-            expression = expression.differentiate("r");
-        return expression.optimize();
+    CustomPairTerm(const OpenMM::CustomNonbondedForce& force, int forceIndex, OpenMM::ContextImpl& context)
+        : force(checked(force, forceIndex)), numParticles(context.getSystem().getNumParticles()) {
+        Lepton::ParsedExpression energy = Lepton::Parser::parse(force.getEnergyFunction());
+        for (int order = 0; order < 3; order++) {
+            expressions[order] = energy.optimize();
+            energy = energy.differentiate("r");
+        }
+        for (int k = 0; k < force.getNumExclusions(); k++) {
+            int p1, p2;
+            force.getExclusionParticles(k, p1, p2);
+            exclusions.insert(pairKey(p1, p2));
+        }
+        for (int g = 0; g < force.getNumInteractionGroups(); g++) {
+            std::set<int> set1, set2;
+            force.getInteractionGroupParameters(g, set1, set2);
+            std::vector<char> in1(numParticles, 0), in2(numParticles, 0);
+            for (int p : set1)
+                in1[p] = 1;
+            for (int p : set2)
+                in2[p] = 1;
+            groups.emplace_back(std::move(in1), std::move(in2));
+        }
+        refresh(context);
     }
     double cutoff() const override { return force.getCutoffDistance(); }
-    void addDerivatives(int i, int j, double r, double& first, double& second) const override {
-        if (r >= force.getCutoffDistance())
+    void refresh(OpenMM::ContextImpl& context) override {
+        variables.clear();
+        for (int k = 0; k < force.getNumGlobalParameters(); k++) {
+            const std::string& name = force.getGlobalParameterName(k);
+            variables[name] = context.getParameter(name);
+        }
+        // Per-particle parameters, then computed values (functions of them and of the globals).
+        int numPerParticle = force.getNumPerParticleParameters(), numComputed = force.getNumComputedValues();
+        stride = numPerParticle+numComputed;
+        particleValues.assign(static_cast<std::size_t>(numParticles)*stride, 0.0);
+        std::vector<Lepton::ParsedExpression> computed;
+        std::vector<std::string> names;
+        for (int k = 0; k < numPerParticle; k++)
+            names.push_back(force.getPerParticleParameterName(k));
+        for (int k = 0; k < numComputed; k++) {
+            std::string name, expression;
+            force.getComputedValueParameters(k, name, expression);
+            computed.push_back(Lepton::Parser::parse(expression).optimize());
+            names.push_back(name);
+        }
+        std::vector<double> parameters;
+        std::map<std::string, double> particleVariables = variables;
+        for (int i = 0; i < numParticles; i++) {
+            force.getParticleParameters(i, parameters);
+            double* values = &particleValues[static_cast<std::size_t>(i)*stride];
+            for (int k = 0; k < numPerParticle; k++)
+                particleVariables[names[k]] = values[k] = parameters[k];
+            for (int k = 0; k < numComputed; k++)
+                values[numPerParticle+k] = computed[k].evaluate(particleVariables);
+        }
+        pairVariableNames.clear();
+        for (const std::string& name : names)
+            pairVariableNames.emplace_back(name+"1", name+"2");
+    }
+    void addTerms(int i, int j, double r, double& energy, double& first, double& second) const override {
+        double rc = force.getCutoffDistance();
+        if (r >= rc || !interacts(i, j))
             return;
-        first += evaluate(firstExpression, i, j, r);
-        second += evaluate(secondExpression, i, j, r);
+        variables["r"] = r;
+        const double* values1 = &particleValues[static_cast<std::size_t>(i)*stride];
+        const double* values2 = &particleValues[static_cast<std::size_t>(j)*stride];
+        for (int k = 0; k < stride; k++) {
+            variables[pairVariableNames[k].first] = values1[k];
+            variables[pairVariableNames[k].second] = values2[k];
+        }
+        double u = expressions[0].evaluate(variables), du = expressions[1].evaluate(variables);
+        double d2u = expressions[2].evaluate(variables);
+        double rs = force.getSwitchingDistance();
+        if (force.getUseSwitchingFunction() && r > rs) {
+            // (u S)' = u' S + u S', (u S)'' = u'' S + 2 u' S' + u S''.
+            double width = rc-rs, x = (r-rs)/width;
+            double s = 1.0+x*x*x*(-10.0+x*(15.0-6.0*x));
+            double ds = x*x*(-30.0+x*(60.0-30.0*x))/width;
+            double d2s = x*(-60.0+x*(180.0-120.0*x))/(width*width);
+            energy += u*s;
+            first += du*s+u*ds;
+            second += d2u*s+2.0*du*ds+u*d2s;
+            return;
+        }
+        energy += u;
+        first += du;
+        second += d2u;
     }
 
 private:
-    double evaluate(const Lepton::ParsedExpression& expression, int i, int j, double r) const {
-        variables = globals;
-        variables["r"] = r;
-        for (int k = 0; k < force.getNumPerParticleParameters(); k++) {
-            force.getParticleParameters(i, parameters);
-            variables[force.getPerParticleParameterName(k)+"1"] = parameters[k];
-            force.getParticleParameters(j, parameters);
-            variables[force.getPerParticleParameterName(k)+"2"] = parameters[k];
+    static const OpenMM::CustomNonbondedForce& checked(const OpenMM::CustomNonbondedForce& force, int forceIndex) {
+        const char* feature = nullptr;
+        if (force.getUseLongRangeCorrection())
+            feature = "a long-range correction (setUseLongRangeCorrection(False) to measure without it)";
+        else if (force.getNumTabulatedFunctions() > 0)
+            feature = "tabulated functions";
+        else if (force.getNonbondedMethod() == OpenMM::CustomNonbondedForce::NoCutoff)
+            feature = "no cutoff (the observables need CutoffPeriodic)";
+        else if (force.getNonbondedMethod() == OpenMM::CustomNonbondedForce::CutoffNonPeriodic)
+            feature = "a non-periodic cutoff (the observables measure in the periodic box: use CutoffPeriodic)";
+        if (feature != nullptr) {
+            std::stringstream message;
+            message << "DPDObservables: force " << forceIndex << " (" << force.getName() << ", a CustomNonbondedForce) uses "
+                    << feature << ", which the configurational temperature, virial pressure and stress do not support";
+            throw OpenMM::OpenMMException(message.str());
         }
-        return expression.evaluate(variables);
+        return force;
+    }
+    static long long pairKey(int i, int j) {
+        return static_cast<long long>(std::min(i, j))*(1LL << 32)+std::max(i, j);
+    }
+    bool interacts(int i, int j) const {
+        if (!exclusions.empty() && exclusions.count(pairKey(i, j)) != 0)
+            return false;
+        if (groups.empty())
+            return true;
+        for (const auto& group : groups)
+            if ((group.first[i] && group.second[j]) || (group.first[j] && group.second[i]))
+                return true;
+        return false;
     }
     const OpenMM::CustomNonbondedForce& force;
-    Lepton::ParsedExpression firstExpression, secondExpression;
-    std::map<std::string, double> globals;
+    int numParticles;
+    Lepton::ParsedExpression expressions[3]; // u, du/dr, d2u/dr2
+    std::unordered_set<long long> exclusions;
+    std::vector<std::pair<std::vector<char>, std::vector<char> > > groups; // membership of set 1 and set 2
+    int stride = 0;
+    std::vector<double> particleValues; // per particle: per-particle parameters, then computed values
+    std::vector<std::pair<std::string, std::string> > pairVariableNames;
     mutable std::map<std::string, double> variables;
-    mutable std::vector<double> parameters;
 };
 
 } // namespace
 
-DPDPairPotentialTerms::DPDPairPotentialTerms(const OpenMM::System& system) {
+bool DPDPairPotentialTerms::hasNoPotential(const OpenMM::Force& force) {
+    return dynamic_cast<const OpenMM::CMMotionRemover*>(&force) != nullptr ||
+           dynamic_cast<const OpenMM::AndersenThermostat*>(&force) != nullptr ||
+           dynamic_cast<const OpenMM::MonteCarloBarostat*>(&force) != nullptr ||
+           dynamic_cast<const OpenMM::MonteCarloAnisotropicBarostat*>(&force) != nullptr ||
+           dynamic_cast<const OpenMM::MonteCarloMembraneBarostat*>(&force) != nullptr ||
+           dynamic_cast<const OpenMM::MonteCarloFlexibleBarostat*>(&force) != nullptr;
+}
+
+DPDPairPotentialTerms::DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups) {
+    const std::vector<OpenMM::ForceImpl*>& impls = context.getForceImpls();
+    const OpenMM::System& system = context.getSystem();
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& force = system.getForce(k);
-        if (auto* dpd = dynamic_cast<const DPDForce*>(&force))
-            terms.push_back(std::make_unique<SoftRepulsionTerm>(*dpd, system.getNumParticles()));
+        if ((groups & (1 << force.getForceGroup())) == 0 || hasNoPotential(force))
+            continue;
+        // The Context's force implementations are in the System's order, one a force.
+        if (auto* dpd = dynamic_cast<const DPDForceImpl*>(impls[k]))
+            terms.push_back(std::make_unique<SoftRepulsionTerm>(*dpd));
         else if (auto* custom = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force))
-            terms.push_back(std::make_unique<CustomPairTerm>(*custom));
-        else if (dynamic_cast<const OpenMM::CMMotionRemover*>(&force) == nullptr) {
+            terms.push_back(std::make_unique<CustomPairTerm>(*custom, k, context));
+        else {
             std::stringstream message;
             message << "DPDObservables: force " << k << " (" << force.getName()
                     << ") is not a pair potential the observables understand (DPDForce or CustomNonbondedForce)";
@@ -113,7 +239,15 @@ DPDPairPotentialTerms::DPDPairPotentialTerms(const OpenMM::System& system) {
 
 DPDPairPotentialTerms::~DPDPairPotentialTerms() = default;
 
-void DPDPairPotentialTerms::addDerivatives(int i, int j, double r, double& firstDerivative, double& secondDerivative) const {
+void DPDPairPotentialTerms::refresh(OpenMM::ContextImpl& context) {
     for (const auto& term : terms)
-        term->addDerivatives(i, j, r, firstDerivative, secondDerivative);
+        term->refresh(context);
+    maxCutoff = 0.0;
+    for (const auto& term : terms)
+        maxCutoff = std::max(maxCutoff, term->cutoff());
+}
+
+void DPDPairPotentialTerms::addTerms(int i, int j, double r, double& energy, double& firstDerivative, double& secondDerivative) const {
+    for (const auto& term : terms)
+        term->addTerms(i, j, r, energy, firstDerivative, secondDerivative);
 }

@@ -153,6 +153,12 @@ public:
      * default).  Needs a periodic System whose box is a = (L_x, 0, 0), b = (b_x, L_y, 0), c = (0, 0, L_z)
      * with |b_x| <= L_x/2 and every cutoff at most L_y/2; checked when the Context is made and at each step.
      * Velocities in the Context are then peculiar (see the class comment).  Not with NEMD or Norton.
+     * Every step wraps the positions into the sheared box, molecule by molecule (OpenMM's molecules:
+     * particles joined by bonds or virtual sites), so bonds and angles with or without periodic boundary
+     * conditions and virtual sites see their molecule whole; positions set any number of box heights away
+     * are wrapped before the first step.  A force whose value the wrap would change (one with a potential,
+     * no periodic boundary conditions and no bonds, e.g. a CustomExternalForce in x; or an angle or
+     * torsion between particles of different molecules) makes the first sheared step throw, naming it.
      */
     void setLeesEdwards(double shearRate);
     double getShearRate() const { return shearRate; }

@@ -9,8 +9,10 @@ namespace OpenMMDPD {
 /**
  * Equilibrium observables of a Context, measured at the positions it holds (q^{n+1} after a step;
  * each call that needs forces evaluates them there).  The pair potential may be a DPDForce or an
- * isotropic CustomNonbondedForce (e.g. the C1-truncated Lennard-Jones of Wu & Shang, eqs. 72-74);
- * see DPDPairPotentialTerms.
+ * isotropic CustomNonbondedForce (e.g. the C1-truncated Lennard-Jones of Wu & Shang, eqs. 72-74),
+ * in the force groups the Context's integrator moves the particles with (getIntegrationForceGroups),
+ * with the parameters the Context computes with (updateParametersInContext, Context::setParameter);
+ * see DPDPairPotentialTerms for what is understood and what is refused.
  */
 class DPDObservables {
 public:

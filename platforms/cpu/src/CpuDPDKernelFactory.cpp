@@ -5,6 +5,9 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/cpu/CpuPlatform.h"
 #include "openmm/internal/windowsExport.h"
+#include <algorithm>
+#include <sstream>
+#include <thread>
 
 using namespace OpenMMDPD;
 
@@ -25,6 +28,16 @@ extern "C" OPENMM_EXPORT void registerKernelFactories() {
 OpenMM::KernelImpl* CpuDPDKernelFactory::createKernelImpl(std::string name, const OpenMM::Platform& platform,
                                                           OpenMM::ContextImpl& context) const {
     int numThreads = OpenMM::CpuPlatform::getPlatformData(context).threads.getNumThreads();
+    // Each engine keeps a team of threads that spin between passes: more than a few per hardware
+    // thread only thrash (10 000 asked brought a 2-core machine's load to ~2 000), so the count is refused.
+    int hardwareThreads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+    int maxThreads = std::max(64, 4*hardwareThreads);
+    if (numThreads > maxThreads) {
+        std::stringstream message;
+        message << "DPD on the CPU platform: Threads = " << numThreads << " is out of range; it must be between 1 and " << maxThreads
+                << " (4 times this machine's " << hardwareThreads << " hardware threads, at least 64)";
+        throw OpenMM::OpenMMException(message.str());
+    }
     DPDPairEngineFactory makeEngine = [numThreads] { return std::make_unique<CpuDPDPairEngine>(numThreads); };
     if (name == CalcDPDForceKernel::Name())
         return new ReferenceCalcDPDForceKernel(name, platform, makeEngine());

@@ -47,12 +47,28 @@ public:
      */
     int drift(std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities, const std::vector<double>& inverseMasses,
                double dt, double maxDisplacement) const;
-    /** Move every position into the primary cell by lattice vectors (peculiar velocities are unchanged). */
-    static void wrapIntoPrimaryCell(std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
+    /**
+     * Before the first sheared step: learn the Context's molecules (particles that bonds, constraints
+     * or virtual sites join), which the wrap keeps whole, and throw an OpenMMException naming any force
+     * whose meaning the wrap would change: one with a potential that uses no periodic boundary
+     * conditions and joins no particles (an external field, a non-periodic nonbonded method).
+     */
+    void bindToContext(OpenMM::ContextImpl& context);
+    bool isBoundToContext() const { return bound; }
+    /**
+     * Move every molecule into the primary cell by one lattice vector for all its particles, the one
+     * that brings its centre there (a lone particle: its own), so that forces between the particles of
+     * a molecule (bonds, angles, with or without periodic boundary conditions) and virtual sites see it
+     * whole.  Peculiar velocities are unchanged.
+     */
+    void wrapIntoPrimaryCell(std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box) const;
 
 private:
     double shearRate;
     double offsetAtStepStart = 0.0;
+    bool bound = false;
+    std::vector<std::vector<int> > moleculesOfSeveral; // molecules of more than one particle
+    std::vector<char> inMoleculeOfSeveral;             // per particle: wrapped with its molecule
 };
 
 } // namespace OpenMMDPD

@@ -2,7 +2,7 @@
 #define OPENMMDPD_DPDSTRESSACCUMULATOR_H_
 
 #include "DPDPairEngine.h"
-#include "openmm/System.h"
+#include "openmm/internal/ContextImpl.h"
 #include "openmm/Vec3.h"
 #include "openmmdpd/DPDIntegrator.h"
 #include "openmmdpd/internal/DPDPairPotentialTerms.h"
@@ -15,14 +15,15 @@ namespace OpenMMDPD {
  * The integrator's running sums of the stress tensor (Irving-Kirkwood, Shang 2021 eq. 3.3),
  * sigma = -(1/V) [sum_i m_i u_i (x) u_i + sum_{i<j} r_ij (x) F_ij], one sample per step, in the parts
  * of DPDIntegrator::StressStatistics.  The pair parts of the dissipative and random forces come from
- * the pair sweeps (DPDPairStressSums); the conservative part is an own pair pass over the System's
- * isotropic pair potentials (DPDPairPotentialTerms: DPDForce and CustomNonbondedForce; any other
- * force makes the first sample throw).  Nothing is computed unless the integrator asks for stress.
+ * the pair sweeps (DPDPairStressSums); the conservative part is an own pair pass over the isotropic
+ * pair potentials the Context computes for the integrated force groups (DPDPairPotentialTerms:
+ * DPDForce and CustomNonbondedForce with their parameters in the Context, read again every sample;
+ * any other force makes the first sample throw).  Nothing is computed unless the integrator asks for stress.
  */
 class DPDStressAccumulator {
 public:
     /** Add a step's sample: kinetic and conservative parts at these positions and (peculiar) velocities. */
-    void addKineticAndConservative(const OpenMM::System& system, const std::vector<OpenMM::Vec3>& positions,
+    void addKineticAndConservative(OpenMM::ContextImpl& context, int integrationGroups, const std::vector<OpenMM::Vec3>& positions,
                                    const std::vector<OpenMM::Vec3>& velocities, const std::vector<double>& masses, const OpenMM::Vec3* box);
     /** Add a step's pair sums of the dissipative and random parts; `scale` is 1/h for momentum changes, 1 for forces. */
     void addPairSums(const DPDPairStressSums& sums, double scale, const OpenMM::Vec3* box);

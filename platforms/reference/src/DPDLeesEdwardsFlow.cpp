@@ -1,7 +1,15 @@
 #include "DPDLeesEdwardsFlow.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
+#include "openmmdpd/internal/DPDPairPotentialTerms.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/System.h"
+#include "openmm/CustomAngleForce.h"
+#include "openmm/CustomTorsionForce.h"
+#include "openmm/Force.h"
+#include "openmm/HarmonicAngleForce.h"
+#include "openmm/PeriodicTorsionForce.h"
+#include "openmm/RBTorsionForce.h"
+#include "openmm/internal/ForceImpl.h"
 #include <cmath>
 #include <sstream>
 
@@ -61,7 +69,120 @@ int DPDLeesEdwardsFlow::drift(std::vector<Vec3>& positions, std::vector<Vec3>& v
     return unsound;
 }
 
-void DPDLeesEdwardsFlow::wrapIntoPrimaryCell(std::vector<Vec3>& positions, const Vec3* box) {
-    for (Vec3& position : positions)
-        position = DPDPeriodicBox::wrapIntoBox(position, box);
+namespace {
+
+/**
+ * The particle sets of a bonded force's terms that OpenMM's molecules (made from bonds, constraints and
+ * virtual sites) need not contain: angles and torsions.  Empty for any other force.
+ */
+std::vector<std::vector<int> > termsOf(const OpenMM::Force& force) {
+    std::vector<std::vector<int> > terms;
+    std::vector<double> parameters;
+    if (auto* angles = dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force))
+        for (int k = 0; k < angles->getNumAngles(); k++) {
+            int p1, p2, p3;
+            double angle, stiffness;
+            angles->getAngleParameters(k, p1, p2, p3, angle, stiffness);
+            terms.push_back({p1, p2, p3});
+        }
+    else if (auto* custom = dynamic_cast<const OpenMM::CustomAngleForce*>(&force))
+        for (int k = 0; k < custom->getNumAngles(); k++) {
+            int p1, p2, p3;
+            custom->getAngleParameters(k, p1, p2, p3, parameters);
+            terms.push_back({p1, p2, p3});
+        }
+    else if (auto* torsions = dynamic_cast<const OpenMM::PeriodicTorsionForce*>(&force))
+        for (int k = 0; k < torsions->getNumTorsions(); k++) {
+            int p1, p2, p3, p4, periodicity;
+            double phase, stiffness;
+            torsions->getTorsionParameters(k, p1, p2, p3, p4, periodicity, phase, stiffness);
+            terms.push_back({p1, p2, p3, p4});
+        }
+    else if (auto* rb = dynamic_cast<const OpenMM::RBTorsionForce*>(&force))
+        for (int k = 0; k < rb->getNumTorsions(); k++) {
+            int p1, p2, p3, p4;
+            double c[6];
+            rb->getTorsionParameters(k, p1, p2, p3, p4, c[0], c[1], c[2], c[3], c[4], c[5]);
+            terms.push_back({p1, p2, p3, p4});
+        }
+    else if (auto* customTorsions = dynamic_cast<const OpenMM::CustomTorsionForce*>(&force))
+        for (int k = 0; k < customTorsions->getNumTorsions(); k++) {
+            int p1, p2, p3, p4;
+            customTorsions->getTorsionParameters(k, p1, p2, p3, p4, parameters);
+            terms.push_back({p1, p2, p3, p4});
+        }
+    return terms;
+}
+
+} // namespace
+
+void DPDLeesEdwardsFlow::bindToContext(OpenMM::ContextImpl& context) {
+    const OpenMM::System& system = context.getSystem();
+    const std::vector<OpenMM::ForceImpl*>& impls = context.getForceImpls();
+    std::vector<int> moleculeOf(system.getNumParticles(), -1);
+    const std::vector<std::vector<int> >& molecules = context.getMolecules();
+    for (std::size_t m = 0; m < molecules.size(); m++)
+        for (int particle : molecules[m])
+            moleculeOf[particle] = static_cast<int>(m);
+    std::stringstream message;
+    message << "DPDIntegrator: Lees-Edwards shear (shear rate " << shearRate << " 1/ps) wraps every molecule into the sheared box at "
+            << "every step, which would change what force ";
+    for (int k = 0; k < system.getNumForces(); k++) {
+        const OpenMM::Force& force = system.getForce(k);
+        if (force.usesPeriodicBoundaryConditions() || DPDPairPotentialTerms::hasNoPotential(force))
+            continue;
+        // A bonded force sees its molecules whole; an angle or torsion must lie within one.
+        std::vector<std::vector<int> > terms = termsOf(force);
+        for (std::size_t t = 0; t < terms.size(); t++)
+            for (int particle : terms[t])
+                if (moleculeOf[particle] != moleculeOf[terms[t][0]]) {
+                    message << k << " (" << force.getName() << ") computes: its term " << t << " joins particles of different "
+                            << "molecules (no chain of bonds, constraints or virtual sites links them), and it uses no periodic "
+                            << "boundary conditions.  Bond its particles, or call setUsesPeriodicBoundaryConditions(true)";
+                    throw OpenMM::OpenMMException(message.str());
+                }
+        if (!terms.empty() || !impls[k]->getBondedParticles().empty())
+            continue;
+        message << k << " (" << force.getName() << ") computes: it uses no periodic boundary conditions and joins no particles "
+                << "into molecules.  Make it periodic (a periodic nonbonded method, or periodicdistance in a custom expression) or "
+                << "leave it out of a sheared System";
+        throw OpenMM::OpenMMException(message.str());
+    }
+    moleculesOfSeveral.clear();
+    inMoleculeOfSeveral.assign(system.getNumParticles(), 0);
+    for (const std::vector<int>& molecule : molecules)
+        if (molecule.size() > 1) {
+            moleculesOfSeveral.push_back(molecule);
+            for (int particle : molecule)
+                inMoleculeOfSeveral[particle] = 1;
+        }
+    bound = true;
+}
+
+void DPDLeesEdwardsFlow::wrapIntoPrimaryCell(std::vector<Vec3>& positions, const Vec3* box) const {
+    if (moleculesOfSeveral.empty()) {
+        for (Vec3& position : positions)
+            position = DPDPeriodicBox::wrapIntoBox(position, box);
+        return;
+    }
+    for (std::size_t i = 0; i < positions.size(); i++)
+        if (!inMoleculeOfSeveral[i])
+            positions[i] = DPDPeriodicBox::wrapIntoBox(positions[i], box);
+    for (const std::vector<int>& molecule : moleculesOfSeveral) {
+        Vec3 centre;
+        for (int particle : molecule)
+            centre += positions[particle];
+        centre *= 1.0/molecule.size();
+        // The lattice vector that wraps the centre (DPDPeriodicBox::wrapIntoBox, axis by axis), then the same for every particle.
+        double shiftC = std::floor(centre[2]/box[2][2]);
+        centre -= box[2]*shiftC;
+        double shiftB = std::floor(centre[1]/box[1][1]);
+        centre -= box[1]*shiftB;
+        double shiftA = std::floor(centre[0]/box[0][0]);
+        for (int particle : molecule) {
+            positions[particle] -= box[2]*shiftC;
+            positions[particle] -= box[1]*shiftB;
+            positions[particle] -= box[0]*shiftA;
+        }
+    }
 }

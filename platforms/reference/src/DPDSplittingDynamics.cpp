@@ -204,7 +204,7 @@ void DPDSplittingDynamics::moveImages(OpenMM::ContextImpl& context, double elaps
     // (lattice shifts only): the pairs are then found from the positions the Context keeps, and a
     // continuation from a checkpoint finds them bit for bit.
     if (elapsed == stepSize)
-        DPDLeesEdwardsFlow::wrapIntoPrimaryCell(state.positions, state.box);
+        leesEdwards.wrapIntoPrimaryCell(state.positions, state.box);
 }
 
 bool DPDSplittingDynamics::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, double dt, bool keepForces) {
@@ -459,6 +459,7 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
     if (integrator.getTable().getRevision() != frictionRevision)
         applyFrictionTableChanges(context, integrator);
+    bool stateSetFromOutside = externalStateUnchecked;
     if (externalStateUnchecked) {
         // The drift catches what a step produces; what the user set is checked once, here, so that a
         // NaN position cannot hide from the pair search (which drops NaN pairs) and run on silently.
@@ -478,6 +479,12 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
         if (integrator.getForcingMode() != DPDIntegrator::NoForcing)
             throw OpenMM::OpenMMException("DPDIntegrator: Lees-Edwards shear cannot be combined with NEMD or Norton forcing");
         DPDLeesEdwardsFlow::checkBox(context.getSystem(), state.box, largestCutoff, leesEdwards.getShearRate());
+        if (!leesEdwards.isBoundToContext())
+            leesEdwards.bindToContext(context);
+        // Positions set by the user may lie any number of box heights away: the sheared drift moves a
+        // particle with the streaming velocity of where it is, so it starts from its image in the box.
+        if (stateSetFromOutside)
+            leesEdwards.wrapIntoPrimaryCell(state.positions, state.box);
         leesEdwards.beginStep(state.box);
     }
     accumulateStress = integrator.getStressAccumulation();
@@ -500,7 +507,7 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     }
     if (accumulateStress) {
         stress.addPairSums(stepPairStress, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize, state.box);
-        stress.addKineticAndConservative(context.getSystem(), state.positions, state.velocities, masses, state.box);
+        stress.addKineticAndConservative(context, integrationGroups, state.positions, state.velocities, masses, state.box);
         stress.endSample();
     }
     if (scheme != DPDIntegrator::ABOBA) {

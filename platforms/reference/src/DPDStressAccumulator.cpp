@@ -39,9 +39,16 @@ void forEachPairWithinCutoff(const std::vector<Vec3>& positions, const Vec3* box
     double volume = box[0][0]*box[1][1]*box[2][2];
     double thickness[3] = {volume/std::sqrt(box[1].cross(box[2]).dot(box[1].cross(box[2]))),
                            volume/std::sqrt(box[2].cross(box[0]).dot(box[2].cross(box[0]))), box[2][2]};
+    // Cells at least a cutoff thick, and no more of them than about two a particle: in a dilute box
+    // the cost and the memory follow the particles, not the volume.
+    double cellThickness = cutoff;
+    double maxCells = 2.0*numParticles+27.0;
+    double cellsAtCutoff = std::floor(thickness[0]/cutoff)*std::floor(thickness[1]/cutoff)*std::floor(thickness[2]/cutoff);
+    if (cellsAtCutoff > maxCells)
+        cellThickness = cutoff*std::cbrt(cellsAtCutoff/maxCells);
     int cells[3];
     for (int k = 0; k < 3; k++)
-        cells[k] = static_cast<int>(std::floor(thickness[k]/cutoff));
+        cells[k] = static_cast<int>(std::min(std::floor(thickness[k]/cellThickness), maxCells));
     if (cells[0] < 3 || cells[1] < 3 || cells[2] < 3) {
         OpenMM::NeighborList neighbors;
         std::vector<std::set<int> > noExclusions(positions.size());
@@ -87,10 +94,12 @@ void forEachPairWithinCutoff(const std::vector<Vec3>& positions, const Vec3* box
 
 } // namespace
 
-void DPDStressAccumulator::addKineticAndConservative(const OpenMM::System& system, const std::vector<Vec3>& positions,
+void DPDStressAccumulator::addKineticAndConservative(OpenMM::ContextImpl& context, int integrationGroups, const std::vector<Vec3>& positions,
                                                      const std::vector<Vec3>& velocities, const std::vector<double>& masses, const Vec3* box) {
     if (!potential)
-        potential = std::make_unique<DPDPairPotentialTerms>(system); // throws for forces that are not isotropic pair potentials
+        potential = std::make_unique<DPDPairPotentialTerms>(context, integrationGroups); // throws for forces that are not isotropic pair potentials
+    else
+        potential->refresh(context); // updateParametersInContext and setParameter since the last sample
     double minusInverseVolume = -1.0/(box[0][0]*box[1][1]*box[2][2]);
     // Kinetic part with the peculiar velocities (eq. 3.3).
     double kinetic[6] = {};

@@ -23,10 +23,20 @@ public:
     void updateParametersInContext(OpenMM::ContextImpl& context);
     /** The platform kernel, through which an integrator of the same platform may share the pair list. */
     OpenMM::Kernel& getKernel() { return kernel; }
+    /**
+     * The parameters the kernel computes with: the DPDForce's as of the Context's creation or its last
+     * updateParametersInContext, not as the DPDForce holds them now (it may have been changed since).
+     * What measures the Context's potential (stress, observables) reads these.
+     */
+    const DPDTypePairTable::Compiled& getParametersInContext() const { return parametersInContext; }
+    /** Counts the copies into the Context: a reader that compiled its own view of them knows when it is stale. */
+    long long getParametersInContextRevision() const { return parametersInContextRevision; }
 
 private:
     const DPDForce& owner;
     OpenMM::Kernel kernel;
+    DPDTypePairTable::Compiled parametersInContext;
+    long long parametersInContextRevision = 0;
 };
 
 } // namespace OpenMMDPD

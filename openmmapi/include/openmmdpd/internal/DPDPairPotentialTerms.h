@@ -1,30 +1,47 @@
 #ifndef OPENMMDPD_DPDPAIRPOTENTIALTERMS_H_
 #define OPENMMDPD_DPDPAIRPOTENTIALTERMS_H_
 
-#include "openmm/System.h"
-#include "openmmdpd/DPDTypePairTable.h"
+#include "openmm/Force.h"
+#include "openmm/internal/ContextImpl.h"
 #include <memory>
-#include <string>
 #include <vector>
 
 namespace OpenMMDPD {
 
 /**
- * The isotropic pair potentials of a System, U = sum_{i<j} u_ij(r_ij), with their first and second
- * derivatives in r: what the configurational temperature (Laplacian, Shang 2021 eq. 3.1) and the
- * virial pressure need.  Understood: DPDForce (analytic, eq. 1.3) and CustomNonbondedForce whose
- * energy depends on r, global parameters and per-particle parameters (differentiated with Lepton,
- * OpenMM's expression library), without switching function or long-range correction.  Any other
- * potential-bearing force makes the constructor throw, naming the force; CMMotionRemover is ignored.
+ * The isotropic pair potentials a Context computes, U = sum_{i<j} u_ij(r_ij), with their first and
+ * second derivatives in r: what the configurational temperature (Laplacian, Shang 2021 eq. 3.1), the
+ * virial pressure and the conservative stress (eq. 3.3) need.  They are read from the Context, not
+ * from the System: a DPDForce's parameters as its last updateParametersInContext left them, a
+ * CustomNonbondedForce's global parameters as Context::setParameter left them.
+ *
+ * Understood: DPDForce (analytic, eq. 1.3) and a periodic CustomNonbondedForce whose energy depends on
+ * r, global parameters, per-particle parameters and computed values (differentiated with Lepton,
+ * OpenMM's expression library), with its exclusions, interaction groups and switching function.  Any
+ * other force with a potential, or a CustomNonbondedForce feature outside these (long-range
+ * correction, tabulated functions, a non-periodic method), makes the constructor throw, naming the
+ * force and the feature.  Forces outside `groups` are left out; forces without a potential
+ * (CMMotionRemover, AndersenThermostat, barostats) are ignored.
  */
 class DPDPairPotentialTerms {
 public:
-    explicit DPDPairPotentialTerms(const OpenMM::System& system);
+    /** The terms of the forces in the force groups `groups` (bit k for group k). */
+    DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups);
     ~DPDPairPotentialTerms();
+    /** Read again what may have changed in the Context since construction (parameters, global values). */
+    void refresh(OpenMM::ContextImpl& context);
     /** The largest cutoff of all terms: every interacting pair is closer. */
     double getMaxCutoff() const { return maxCutoff; }
+    /** Add u, du/dr and d2u/dr2 of every term for the pair (i, j) at distance r. */
+    void addTerms(int i, int j, double r, double& energy, double& firstDerivative, double& secondDerivative) const;
     /** Add du/dr and d2u/dr2 of every term for the pair (i, j) at distance r. */
-    void addDerivatives(int i, int j, double r, double& firstDerivative, double& secondDerivative) const;
+    void addDerivatives(int i, int j, double r, double& firstDerivative, double& secondDerivative) const {
+        double energy = 0.0;
+        addTerms(i, j, r, energy, firstDerivative, secondDerivative);
+    }
+
+    /** Whether a force adds no potential energy (CMMotionRemover, AndersenThermostat, barostats). */
+    static bool hasNoPotential(const OpenMM::Force& force);
 
     struct Term;
 

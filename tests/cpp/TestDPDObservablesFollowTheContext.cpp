@@ -1,0 +1,259 @@
+// The stress and the observables compute what the Context computes: a DPDForce's parameters after
+// updateParametersInContext, a CustomNonbondedForce's global parameters after Context::setParameter,
+// its exclusions, interaction groups, switching function and computed values, only the force groups
+// that move the particles.  Each case is checked against OpenMM's own energy and forces.
+#include "DPDTestSupport.h"
+#include "openmmdpd/internal/DPDContextAccess.h"
+#include "openmmdpd/internal/DPDPairPotentialTerms.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
+#include "openmm/VerletIntegrator.h"
+#include <thread>
+
+using namespace OpenMM;
+using namespace OpenMMDPD;
+using namespace OpenMMDPDTest;
+
+namespace {
+
+/** The pair terms' energy and forces, summed over every pair (brute force), against the Context's own. */
+::testing::AssertionResult pairTermsMatchTheContext(Context& context, int groups = -1, double tolerance = 1e-9) {
+    DPDPairPotentialTerms terms(DPDContextAccess::implOf(context), groups);
+    State state = context.getState(State::Positions | State::Forces | State::Energy, false, groups);
+    Vec3 box[3];
+    state.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    const std::vector<Vec3>& q = state.getPositions();
+    std::vector<Vec3> forces(q.size());
+    double energy = 0.0;
+    for (std::size_t i = 0; i < q.size(); i++)
+        for (std::size_t j = i+1; j < q.size(); j++) {
+            Vec3 delta = DPDPeriodicBox::minimumImage(q[i]-q[j], box);
+            double r = std::sqrt(delta.dot(delta)), first = 0.0, second = 0.0;
+            if (r >= terms.getMaxCutoff())
+                continue;
+            terms.addTerms(static_cast<int>(i), static_cast<int>(j), r, energy, first, second);
+            forces[i] -= delta*(first/r);
+            forces[j] += delta*(first/r);
+        }
+    double scale = std::max(1.0, std::fabs(state.getPotentialEnergy()));
+    if (std::fabs(energy-state.getPotentialEnergy()) > tolerance*scale)
+        return ::testing::AssertionFailure() << "energy " << energy << " against the Context's " << state.getPotentialEnergy();
+    double forceError = maxAbsDifference(forces, state.getForces());
+    if (forceError > tolerance*std::max(1.0, maxNorm(state.getForces())))
+        return ::testing::AssertionFailure() << "forces differ by " << forceError;
+    return ::testing::AssertionSuccess();
+}
+
+/** A Verlet Context on Reference (double precision) for comparisons with OpenMM's own evaluation. */
+std::unique_ptr<Context> referenceContext(System& system, const std::vector<Vec3>& positions, VerletIntegrator& integrator) {
+    auto context = std::make_unique<Context>(system, integrator, platform("Reference"));
+    context->setPositions(positions);
+    return context;
+}
+
+/** A shifted Lennard-Jones-like soft pair with a global strength A and per-particle size s, as a CustomNonbondedForce. */
+CustomNonbondedForce* softCustomForce(int numParticles, const std::string& energy = "A*(1-r/(s1+s2))^2") {
+    auto* force = new CustomNonbondedForce(energy);
+    force->addGlobalParameter("A", 25.0);
+    force->addPerParticleParameter("s");
+    force->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+    force->setCutoffDistance(1.0);
+    for (int i = 0; i < numParticles; i++)
+        force->addParticle({0.5});
+    return force;
+}
+
+} // namespace
+
+TEST(ObservablesFollowTheContext, DPDForceParametersAreTheContextsAfterUpdateParametersInContext) {
+    SoftFluid fluid = makeSoftFluid(200, 3.0);
+    auto* force = dynamic_cast<DPDForce*>(&fluid.system->getForce(0));
+    force->setParticleType(3, 1);
+    force->addTypePair(0, 1, 40.0, 0.9);
+    VerletIntegrator integrator(0.001);
+    auto context = referenceContext(*fluid.system, fluid.positions, integrator);
+    EXPECT_TRUE(pairTermsMatchTheContext(*context));
+    force->setDefaultA(50.0);
+    force->setTypePairParameters(0, 0, 1, 10.0, 0.8);
+    // Changed in the force, not yet in the Context: the terms follow the Context (still a = 25, 40).
+    EXPECT_TRUE(pairTermsMatchTheContext(*context));
+    double pressureBefore = DPDObservables::virialPressure(*context);
+    force->updateParametersInContext(*context);
+    EXPECT_TRUE(pairTermsMatchTheContext(*context));
+    EXPECT_GT(DPDObservables::virialPressure(*context), pressureBefore*1.5);
+}
+
+TEST(ObservablesFollowTheContext, CustomNonbondedGlobalsSwitchingExclusionsGroupsAndComputedValues) {
+    SoftFluid fluid = makeSoftFluid(150, 3.0, 2, false);
+    {   // global parameters: the Context's value, not the default
+        auto system = std::make_unique<System>(*fluid.system);
+        system->addForce(softCustomForce(150));
+        VerletIntegrator integrator(0.001);
+        auto context = referenceContext(*system, fluid.positions, integrator);
+        context->setParameter("A", 50.0);
+        EXPECT_TRUE(pairTermsMatchTheContext(*context));
+        // The same pressure and configurational temperature as a System whose default is 50.
+        auto systemAt50 = std::make_unique<System>(*fluid.system);
+        auto* at50 = softCustomForce(150);
+        at50->setGlobalParameterDefaultValue(0, 50.0);
+        systemAt50->addForce(at50);
+        VerletIntegrator integrator50(0.001);
+        auto context50 = referenceContext(*systemAt50, fluid.positions, integrator50);
+        EXPECT_NEAR(DPDObservables::virialPressure(*context), DPDObservables::virialPressure(*context50), 1e-9);
+        DPDObservables::ConfigurationalSums sums = DPDObservables::configurationalSums(*context);
+        DPDObservables::ConfigurationalSums sums50 = DPDObservables::configurationalSums(*context50);
+        EXPECT_NEAR(sums.laplacian, sums50.laplacian, 1e-9*std::fabs(sums50.laplacian));
+        EXPECT_NEAR(sums.gradientSquared, sums50.gradientSquared, 1e-9*sums50.gradientSquared);
+    }
+    {   // a switching function from 0.7 nm, exclusions and a per-particle size
+        auto system = std::make_unique<System>(*fluid.system);
+        auto* force = softCustomForce(150, "A*(1.2-r)^3*s1*s2");
+        force->setUseSwitchingFunction(true);
+        force->setSwitchingDistance(0.7);
+        for (int i = 0; i < 150; i += 2)
+            force->setParticleParameters(i, {1.3});
+        for (int i = 0; i+5 < 150; i += 7)
+            force->addExclusion(i, i+5);
+        system->addForce(force);
+        VerletIntegrator integrator(0.001);
+        auto context = referenceContext(*system, fluid.positions, integrator);
+        EXPECT_TRUE(pairTermsMatchTheContext(*context));
+    }
+    {   // interaction groups and a computed value
+        auto system = std::make_unique<System>(*fluid.system);
+        auto* force = softCustomForce(150, "A*(1-r/(c1+c2))^2");
+        force->addComputedValue("c", "s*(1+0.2*A/25)");
+        std::set<int> first, second;
+        for (int i = 0; i < 150; i++)
+            (i < 60 ? first : second).insert(i);
+        force->addInteractionGroup(first, second);
+        force->addInteractionGroup(first, first);
+        system->addForce(force);
+        VerletIntegrator integrator(0.001);
+        auto context = referenceContext(*system, fluid.positions, integrator);
+        context->setParameter("A", 30.0);
+        EXPECT_TRUE(pairTermsMatchTheContext(*context));
+    }
+}
+
+TEST(ObservablesFollowTheContext, WhatTheObservablesCannotComputeIsNamed) {
+    SoftFluid fluid = makeSoftFluid(100, 3.0, 2, false);
+    auto refusedWith = [&](CustomNonbondedForce* force, const std::vector<std::string>& fragments) {
+        auto system = std::make_unique<System>(*fluid.system);
+        system->addForce(force);
+        VerletIntegrator integrator(0.001);
+        auto context = referenceContext(*system, fluid.positions, integrator);
+        return throwsMentioning([&] { DPDObservables::virialPressure(*context); }, fragments);
+    };
+    auto* withCorrection = softCustomForce(100);
+    withCorrection->setUseLongRangeCorrection(true);
+    EXPECT_TRUE(refusedWith(withCorrection, {"force 0", "CustomNonbondedForce", "long-range correction"}));
+    auto* nonPeriodic = softCustomForce(100);
+    nonPeriodic->setNonbondedMethod(CustomNonbondedForce::CutoffNonPeriodic);
+    EXPECT_TRUE(refusedWith(nonPeriodic, {"force 0", "non-periodic cutoff"}));
+}
+
+TEST(ObservablesFollowTheContext, OnlyTheForceGroupsTheIntegratorMovesTheParticlesWith) {
+    // A CustomNonbondedForce in group 1, which the DPDIntegrator leaves out: the observables measure the
+    // DPDForce alone, as a System without the extra force.
+    SoftFluid fluid = makeSoftFluid(200, 3.0), withExtraForce = makeSoftFluid(200, 3.0);
+    System* withExtra = withExtraForce.system.get();
+    CustomNonbondedForce* extra = softCustomForce(200);
+    extra->setForceGroup(1);
+    withExtra->addForce(extra);
+    DPDIntegrator integratorA(reducedTemperature, 4.5, 1.0, 0.02, "ABOBA"), integratorB(reducedTemperature, 4.5, 1.0, 0.02, "ABOBA");
+    integratorA.setIntegrationForceGroups(1 << 0);
+    Context a(*withExtra, integratorA, platform("Reference")), b(*fluid.system, integratorB, platform("Reference"));
+    a.setPositions(fluid.positions);
+    b.setPositions(fluid.positions);
+    EXPECT_DOUBLE_EQ(DPDObservables::virialPressure(a), DPDObservables::virialPressure(b));
+    DPDObservables::ConfigurationalSums sumsA = DPDObservables::configurationalSums(a), sumsB = DPDObservables::configurationalSums(b);
+    EXPECT_DOUBLE_EQ(sumsA.laplacian, sumsB.laplacian);
+    EXPECT_DOUBLE_EQ(sumsA.gradientSquared, sumsB.gradientSquared);
+}
+
+TEST(ObservablesFollowTheContext, StressAfterUpdateParametersInContextUsesTheNewParameters) {
+    // a = 25 -> 50 in the Context: the next stress sample's conservative part is the one of a = 50 at the
+    // positions the step ended at (r (x) F over all pairs, against a brute-force periodic sum).
+    for (const std::string& platformName : allPlatforms) {
+        SoftFluid fluid = makeSoftFluid(300, 3.0);
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, "ABOBA");
+        integrator.setStressAccumulation(true);
+        Context context(*fluid.system, integrator, platform(platformName));
+        context.setPositions(fluid.positions);
+        integrator.step(5);
+        auto& force = dynamic_cast<DPDForce&>(fluid.system->getForce(0));
+        force.setDefaultA(50.0);
+        force.updateParametersInContext(context);
+        integrator.resetStressStatistics();
+        integrator.step(1);
+        State state = context.getState(State::Positions);
+        Vec3 box[3];
+        state.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        const std::vector<Vec3>& q = state.getPositions();
+        double expectedXY = 0.0, volume = box[0][0]*box[1][1]*box[2][2];
+        for (std::size_t i = 0; i < q.size(); i++)
+            for (std::size_t j = i+1; j < q.size(); j++) {
+                Vec3 delta = DPDPeriodicBox::minimumImage(q[i]-q[j], box);
+                double r = std::sqrt(delta.dot(delta));
+                if (r < 1.0)
+                    expectedXY -= delta[0]*delta[1]/r*50.0*(1.0-r)/volume;
+            }
+        DPDIntegrator::StressStatistics statistics = integrator.getStressStatistics();
+        ASSERT_EQ(statistics.steps, 1);
+        EXPECT_NEAR(statistics.conservative[1], expectedXY, 1e-9*std::max(1.0, std::fabs(expectedXY))) << platformName;
+    }
+}
+
+TEST(ObservablesFollowTheContext, StressInADiluteBoxCostsWhatItsParticlesCost) {
+    // 300 particles in clumps in a 400 nm cube: the stress's cells follow the particles (a cell grid of
+    // the box's volume took 552 MB and 4.5 s a step).  The conservative part against a brute-force sum.
+    SoftFluid fluid = makeSoftFluid(300, 3.0, 6);
+    const double L = 400.0;
+    fluid.system->setDefaultPeriodicBoxVectors(Vec3(L, 0, 0), Vec3(0, L, 0), Vec3(0, 0, L));
+    for (std::size_t i = 0; i < fluid.positions.size(); i++)  // six clumps of the fluid's density
+        fluid.positions[i] = fluid.positions[i]*0.55+Vec3(60.0*(i%6), 30.0*(i%6), 10.0);
+    DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.01, "VV");
+    integrator.setStressAccumulation(true);
+    Context context(*fluid.system, integrator, platform("Reference"));
+    context.setPositions(fluid.positions);
+    integrator.step(1);
+    State state = context.getState(State::Positions);
+    Vec3 box[3];
+    state.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    const std::vector<Vec3>& q = state.getPositions();
+    double expectedXX = 0.0;
+    int pairs = 0;
+    for (std::size_t i = 0; i < q.size(); i++)
+        for (std::size_t j = i+1; j < q.size(); j++) {
+            Vec3 delta = DPDPeriodicBox::minimumImage(q[i]-q[j], box);
+            double r = std::sqrt(delta.dot(delta));
+            if (r < 1.0) {
+                expectedXX -= delta[0]*delta[0]/r*25.0*(1.0-r)/(L*L*L);
+                pairs++;
+            }
+        }
+    ASSERT_GT(pairs, 1000); // the clumps are dense: the sum is not trivially zero
+    EXPECT_NEAR(integrator.getStressStatistics().conservative[0], expectedXX, 1e-9*std::fabs(expectedXX));
+}
+
+TEST(ObservablesFollowTheContext, APairHistogramRefusesANonFinitePosition) {
+    SoftFluid fluid = makeSoftFluid(100, 3.0);
+    VerletIntegrator integrator(0.001);
+    auto context = referenceContext(*fluid.system, fluid.positions, integrator);
+    fluid.positions[17][1] = notANumber;
+    context->setPositions(fluid.positions);
+    EXPECT_TRUE(throwsMentioning([&] { DPDObservables::pairDistanceHistogram(*context, 1.0, 10); },
+                                 {"particle 17", "non-finite position"}));
+}
+
+TEST(ObservablesFollowTheContext, AbsurdThreadCountsAreRefusedOnTheCPUPlatform) {
+    int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+    int tooMany = std::max(64, 4*hardware)+1;
+    SoftFluid fluid = makeSoftFluid(100, 3.0);
+    DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, "ABOBA");
+    EXPECT_TRUE(throwsMentioning([&] {
+        Context context(*fluid.system, integrator, platform("CPU"), {{"Threads", std::to_string(tooMany)}});
+    }, {"Threads = "+std::to_string(tooMany), "out of range", "between 1 and"}));
+    DPDIntegrator second(reducedTemperature, 4.5, 1.0, 0.02, "ABOBA");
+    EXPECT_NO_THROW(Context(*fluid.system, second, platform("CPU"), {{"Threads", "16"}}));
+}
