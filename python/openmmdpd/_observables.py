@@ -15,7 +15,10 @@ def configurational_sums(context: openmm.Context) -> Tuple[float, float]:
     """``(sum_i |grad_i U|^2, sum_i lap_i U)`` of Shang 2021 eq. 3.1 at the Context's positions, in
     (kJ/mol/nm)^2 and kJ/mol/nm^2, with the analytic Laplacian of the potential; average each over a
     run and divide: ``k_B T_conf = <first> / <second>`` (kJ/mol).  The potential must be a DPDForce or
-    an isotropic CustomNonbondedForce."""
+    an isotropic, periodic CustomNonbondedForce (exclusions, interaction groups, a switching function
+    and computed values are understood; a long-range correction or tabulated functions are refused,
+    naming the force).  Only the force groups the Context's integrator integrates count, with the
+    parameters the Context computes with (``updateParametersInContext``, ``Context.setParameter``)."""
     return _openmmdpd.configurational_sums(context)
 
 
@@ -36,7 +39,7 @@ def virial_pressure(context: openmm.Context) -> float:
 
 def pair_distance_histogram(context: openmm.Context, max_distance: float, bins: int) -> np.ndarray:
     """Pair counts in ``bins`` (>= 1) equal bins over ``[0, max_distance)`` at the Context's positions;
-    ``max_distance`` in nm (> 0, at most half the box)."""
+    ``max_distance`` in nm (> 0, at most half the box).  A non-finite position raises, naming the particle."""
     return np.asarray(_openmmdpd.pair_distance_histogram(context, max_distance, bins))
 
 

@@ -10,6 +10,8 @@ means (the study's statistics module).
 
 from __future__ import annotations
 
+import math
+import numbers
 from dataclasses import dataclass, field
 from typing import List, NamedTuple, Tuple, Union
 
@@ -19,6 +21,25 @@ import openmm
 from .study.statistics import block_standard_error
 
 PARTS: Tuple[str, ...] = ("kinetic", "conservative", "dissipative", "random")
+
+
+def _positive_integer(function: str, name: str, value: object) -> int:
+    """``value`` as an int if it is an integer >= 1 (a bool is not: ``True`` as a count is a slip);
+    else ValueError naming the function, the parameter and the allowed range."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
+        raise ValueError(f"{function}: {name} = {value!r} is out of range; it must be an integer >= 1")
+    return int(value)
+
+
+def _shear_rate(function: str, value: object, positive: bool = False) -> float:
+    """A shear rate (a number in 1/ps, or a Quantity) as a float in 1/ps if it is finite (and > 0 with
+    ``positive``); else ValueError naming the function, the parameter and the allowed range."""
+    number = value.value_in_unit(openmm.unit.picosecond**-1) if openmm.unit.is_quantity(value) else value
+    if (isinstance(number, bool) or not isinstance(number, numbers.Real) or not math.isfinite(number)
+            or (positive and not number > 0)):
+        allowed = "a finite number > 0" if positive else "a finite number"
+        raise ValueError(f"{function}: shear_rate = {value!r} is out of range; it must be {allowed} (1/ps)")
+    return float(number)
 
 
 class StressStatistics(NamedTuple):
@@ -79,7 +100,14 @@ class ShearSamples:
 
 def sample_shear(context: openmm.Context, integrator, num_chunks: int, steps_per_chunk: int, num_bins: int = 10) -> ShearSamples:
     """Run ``num_chunks`` chunks of ``steps_per_chunk`` steps with stress accumulation on, keeping each
-    chunk's mean stress parts and the streaming profile sampled at each chunk's end."""
+    chunk's mean stress parts and the streaming profile sampled at each chunk's end.
+
+    ``integrator`` is the Context's :class:`openmmdpd.DPDIntegrator`; ``num_chunks``,
+    ``steps_per_chunk`` and ``num_bins`` (of the profile over y) are integers >= 1 (ValueError otherwise,
+    before any step is taken)."""
+    num_chunks = _positive_integer("sample_shear", "num_chunks", num_chunks)
+    steps_per_chunk = _positive_integer("sample_shear", "steps_per_chunk", steps_per_chunk)
+    num_bins = _positive_integer("sample_shear", "num_bins", num_bins)
     kappa = integrator.getShearRate()
     integrator.setStressAccumulation(True)
     previous = integrator.getStressStatistics()
@@ -100,8 +128,12 @@ def sample_shear(context: openmm.Context, integrator, num_chunks: int, steps_per
 
 
 def streaming_profile(context: openmm.Context, shear_rate: float, num_bins: int) -> Tuple[np.ndarray, float]:
-    """The lab-frame <v_x> in ``num_bins`` equal bins of y over the box height (NaN for an empty bin), from
-    the Context's current state, and the box height L_y (nm)."""
+    """The lab-frame <v_x> in ``num_bins`` (an integer >= 1) equal bins of y over the box height (NaN for
+    an empty bin), from the Context's current state, and the box height L_y (nm).  ``shear_rate`` is
+    the Lees-Edwards rate kappa in 1/ps (finite; a number or a Quantity) that turns the Context's peculiar velocities into
+    lab-frame ones."""
+    num_bins = _positive_integer("streaming_profile", "num_bins", num_bins)
+    shear_rate = _shear_rate("streaming_profile", shear_rate)
     state = context.getState(getPositions=True, getVelocities=True)
     height = float(state.getPeriodicBoxVectors(asNumpy=True).value_in_unit(openmm.unit.nanometer)[1][1])
     q = state.getPositions(asNumpy=True).value_in_unit(openmm.unit.nanometer)
@@ -116,9 +148,9 @@ def streaming_profile(context: openmm.Context, shear_rate: float, num_bins: int)
 
 def shear_viscosity(stress: Union[ShearSamples, StressStatistics], shear_rate: float) -> Tuple[float, float]:
     """eta = <sigma_xy>/kappa (eq. 3.4; sigma = -P, so eta > 0 under shear), in amu/(nm ps), and its
-    standard error: blocked over the chunk means of a ShearSamples; NaN for bare sums."""
-    if not shear_rate > 0:
-        raise ValueError(f"shear_rate = {shear_rate} is out of range; it must be > 0")
+    standard error: blocked over the chunk means of a ShearSamples; NaN for bare sums.  ``shear_rate``
+    is kappa in 1/ps (finite, > 0; a number or a Quantity)."""
+    shear_rate = _shear_rate("shear_viscosity", shear_rate, positive=True)
     if isinstance(stress, StressStatistics):
         return float(stress.mean()[0, 1] / shear_rate), float("nan")
     series = 0.5 * (stress.total_stress()[:, 0, 1] + stress.total_stress()[:, 1, 0]) / shear_rate

@@ -90,6 +90,9 @@ NB_MODULE(_openmmdpd, m) {
         return dynamic_cast<DPDForce*>(force) != nullptr;
     });
     m.def("is_dpd_integrator", [](nb::handle proxy) {
+        // OpenMM's own integrators come as proxies of their own classes (VerletIntegrator, ...): never ours.
+        if (!SwigProxyBridge::hasSwigType(proxy, "_p_OpenMM__Integrator"))
+            return false;
         auto* integrator = static_cast<OpenMM::Integrator*>(SwigProxyBridge::pointerOf(proxy, "_p_OpenMM__Integrator", "Integrator"));
         return dynamic_cast<DPDIntegrator*>(integrator) != nullptr;
     });

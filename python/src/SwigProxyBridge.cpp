@@ -94,6 +94,19 @@ void* SwigProxyBridge::pointerOf(nb::handle proxy, const char* swigTypeName, con
     return head->ptr;
 }
 
+bool SwigProxyBridge::hasSwigType(nb::handle proxy, const char* swigTypeName) {
+    nb::handle swigThis = proxy;
+    if (Py_TYPE(proxy.ptr()) != swigPyObjectType) {
+        if (!nb::hasattr(proxy, "this"))
+            return false;
+        swigThis = proxy.attr("this");
+    }
+    if (Py_TYPE(swigThis.ptr()) != swigPyObjectType)
+        return false;
+    auto* head = reinterpret_cast<SwigPyObjectHead*>(swigThis.ptr());
+    return head->ty != nullptr && std::strcmp(head->ty->name, swigTypeName) == 0;
+}
+
 nb::object SwigProxyBridge::makeOwningProxyPointer(void* pointer, const char* swigTypeName) {
     SwigTypeInfo* type = findType(swigTypeName);
     // tp_alloc gives a zeroed object of the runtime's own size (so fields after `own` are null), as SWIG's PyObject_New does.

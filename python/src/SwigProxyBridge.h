@@ -22,6 +22,12 @@ public:
      */
     static void* pointerOf(nanobind::handle proxy, const char* swigTypeName, const char* what);
     /**
+     * Whether `proxy` is an OpenMM proxy (or a bare SwigPyObject) whose SWIG type is exactly
+     * `swigTypeName`: false for a proxy of a derived OpenMM class (e.g. _p_OpenMM__VerletIntegrator)
+     * and for anything that is not a SWIG proxy.
+     */
+    static bool hasSwigType(nanobind::handle proxy, const char* swigTypeName);
+    /**
      * A new SwigPyObject that owns `pointer`, typed as `swigTypeName` (an OpenMM base class with a
      * virtual destructor, so SWIG's deallocator deletes the plugin's object correctly).
      */

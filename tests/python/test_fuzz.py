@@ -1,15 +1,19 @@
 """Property-based fuzzing of the public Python API (issue 11): random valid and invalid parameters,
-particle counts, masses, boxes, types, forcing, checkpoints and XML.  Every case must end in a clean
-exception (openmm.OpenMMException, or TypeError/ValueError/OverflowError from the bindings' argument
-conversion) or in a finite state: never a crash, a hang or a NaN.
+particle counts, masses, boxes, types, forcing, checkpoints and XML; and Lees-Edwards shear (rates,
+box shapes), stress accumulation, Norton targets and the DPDReporter (random columns with the
+plugin's integrator or OpenMM's).  Every case must end in a clean exception (openmm.OpenMMException,
+or TypeError/ValueError/OverflowError from the bindings' argument conversion or the Python checks)
+or in a finite state: never a crash, a hang or a NaN.
 
 Deterministic for CI: derandomize=True (examples derived from the test itself), no example database,
 a bounded example count, small systems and at most a few steps per example."""
 
+import io
 import math
 
 import numpy as np
 import openmm as mm
+import openmm.app as app
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -187,3 +191,152 @@ def test_histogram_arguments_are_bounded(bins, max_distance):
         return
     assert 1 <= len(histogram) <= 1_000_000
     assert_finite(histogram, "histogram")
+
+
+REPORTER_COLUMNS = ("step", "time", "kineticTemperature", "configurationalTemperature", "virialPressure", "stress",
+                    "response", "meanResponse", "nortonForcing", "meanNortonForcing")
+SHEAR_EXAMPLES = 600
+
+
+@st.composite
+def sheared_scenarios(draw):
+    """A soft fluid in a box of random shape stepped by an app.Simulation with a DPDReporter of random
+    columns: the plugin's integrator (as its class, or as the bare openmm.Integrator that XML gives)
+    with random shear, stress accumulation, scheme and forcing (Norton with random targets), or one of
+    OpenMM's integrators.  Mostly valid, so that the steps and the reports behind the checks run too;
+    hostile shear rates, targets, report intervals, boxes and columns the integrator cannot produce in
+    the rest.  Between two step calls the caller may reset or switch things."""
+    def sometimes(valid, hostile, one_in: int):
+        """A draw from ``hostile`` in about one example of ``one_in``, else from ``valid``."""
+        # Not an end of the range: Hypothesis draws those far more often than their share.
+        return draw(hostile if draw(st.integers(0, one_in - 1)) == one_in // 2 else valid)
+
+    def sometimes_hostile(valid):
+        return sometimes(valid, hostile_numbers, 4)
+
+    n = sometimes(st.integers(12, 40), st.integers(1, 11), 8)
+    lengths = tuple(sometimes(st.floats(2.2, 5.0), st.floats(1.5, 2.2), 12) for _ in range(3))
+    integrator = draw(st.sampled_from(["plugin", "plugin", "plugin", "plugin-xml", "Verlet", "LangevinMiddle",
+                                       "openmm.DPD", "Custom"]))
+    plugin = integrator.startswith("plugin")
+    sheared = plugin and draw(st.booleans())
+    forcing = draw(st.sampled_from([None, "NEMD", "Norton", "Norton"])) if plugin and not sheared else None
+    stress = plugin and draw(st.booleans())
+    # The columns this integrator can produce; a quarter of the examples ask for any columns.
+    producible = ["step", "time", "kineticTemperature", "configurationalTemperature", "virialPressure"]
+    producible += ["stress"] * stress + ["response", "meanResponse"] * (forcing is not None)
+    producible += ["nortonForcing", "meanNortonForcing"] * (forcing == "Norton")
+    pool = REPORTER_COLUMNS if draw(st.integers(0, 3)) == 0 else producible
+    columns = draw(st.sets(st.sampled_from(pool), min_size=sometimes(st.just(1), st.just(0), 10), max_size=5))
+    if stress and draw(st.booleans()):  # the stress columns, of the plugin's integrator alone, half the time it sums
+        columns.add("stress")
+    return dict(
+        n=n,
+        lengths=lengths,
+        # An initial Lees-Edwards offset in b (allowed), or a tilted c (refused under shear).
+        offset=sometimes(st.sampled_from([0.0, 0.05, -0.1]), st.floats(-0.5, 0.5), 6) * lengths[0],
+        tilt=sometimes(st.just(0.0), st.just(0.3), 10),
+        integrator=integrator,
+        scheme="ABOBA" if forcing and draw(st.integers(0, 4)) else draw(st.sampled_from(["VV", "S1", "ABOBA"])),
+        friction=draw(st.floats(0.0, 50.0)),
+        step_size=draw(st.floats(1e-3, 0.05)),
+        shear_rate=sometimes_hostile(st.floats(0.0, 2.0)) if sheared else None,
+        stress=stress,
+        forcing=forcing,
+        profile=draw(st.sampled_from(["colour", "two", "sinusoidal", "piecewise_linear", "piecewise_constant"])),
+        target=sometimes_hostile(st.floats(-2.0, 2.0)),
+        columns=columns,
+        interval=sometimes(st.integers(1, 5), st.sampled_from([0, -1, 2.5, True, 2**70]), 8),
+        steps=draw(st.tuples(st.integers(1, 6), st.integers(0, 6))),
+        between=draw(st.sampled_from(["nothing", "nothing", "reset stress", "stress off", "stress on",
+                                      "clear forcing", "new shear rate"])),
+        later_shear_rate=sometimes_hostile(st.floats(0.0, 2.0)),
+        platform=draw(st.sampled_from(["Reference", "CPU"])),
+        seed=draw(st.integers(1, 2**31 - 1)),
+    )
+
+
+def make_sheared_integrator(s):
+    temperature = dpd.REDUCED_TEMPERATURE
+    if s["integrator"] == "Verlet":
+        return mm.VerletIntegrator(s["step_size"] / 10)
+    if s["integrator"] == "LangevinMiddle":
+        return mm.LangevinMiddleIntegrator(temperature, 1.0, s["step_size"] / 10)
+    if s["integrator"] == "openmm.DPD":
+        return mm.DPDIntegrator(temperature, 1.0, 1.0, s["step_size"] / 10)
+    if s["integrator"] == "Custom":
+        integrator = mm.CustomIntegrator(s["step_size"] / 10)
+        integrator.addComputePerDof("v", "v + dt*f/m")
+        integrator.addComputePerDof("x", "x + dt*v")
+        return integrator
+    integrator = dpd.DPDIntegrator(temperature, s["friction"], 1.0, s["step_size"], s["scheme"])
+    integrator.setRandomNumberSeed(s["seed"])
+    if s["shear_rate"] is not None:
+        integrator.setLeesEdwards(s["shear_rate"])
+    integrator.setStressAccumulation(s["stress"])
+    if s["forcing"] == "NEMD":
+        integrator.setNEMD(make_profile(s["profile"]), s["target"])
+    elif s["forcing"] == "Norton":
+        integrator.setNorton(make_profile(s["profile"]), s["target"])
+    if s["integrator"] == "plugin-xml":  # what a Simulation made from an integrator XML file holds
+        integrator = mm.XmlSerializer.deserialize(mm.XmlSerializer.serialize(integrator))
+        assert type(integrator) is mm.Integrator
+    return integrator
+
+
+def run_sheared_scenario(s):
+    system = mm.System()
+    lx, ly, lz = s["lengths"]
+    system.setDefaultPeriodicBoxVectors(mm.Vec3(lx, 0, 0), mm.Vec3(s["offset"], ly, 0), mm.Vec3(s["tilt"], 0, lz))
+    for _ in range(s["n"]):
+        system.addParticle(1.0)
+    system.addForce(dpd.DPDForce(25.0, 1.0))
+    integrator = make_sheared_integrator(s)
+    ours = integrator if isinstance(integrator, dpd.DPDIntegrator) else (
+        dpd.DPDIntegrator.cast(integrator) if s["integrator"] == "plugin-xml" else None)
+    simulation = app.Simulation(app.Topology(), system, integrator, mm.Platform.getPlatformByName(s["platform"]))
+    rng = np.random.default_rng(s["seed"])
+    simulation.context.setPositions(rng.uniform(0.0, 1.0, size=(s["n"], 3)) * [lx, ly, lz])
+    simulation.context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, s["seed"] % 1000 + 1)
+    out = io.StringIO()
+    reporter = dpd.DPDReporter(out, s["interval"], **{column: True for column in s["columns"]})
+    simulation.reporters.append(reporter)
+
+    simulation.step(s["steps"][0])
+    if ours is not None and s["between"] == "reset stress":
+        ours.resetStressStatistics()
+    elif ours is not None and s["between"] in ("stress off", "stress on"):
+        ours.setStressAccumulation(s["between"] == "stress on")
+    elif ours is not None and s["between"] == "clear forcing":
+        ours.clearForcing()
+    elif ours is not None and s["between"] == "new shear rate":
+        ours.setLeesEdwards(s["later_shear_rate"])
+    simulation.step(s["steps"][1])
+
+    # A reporter that was not refused wrote a header and one finite line per report.
+    lines = out.getvalue().splitlines()
+    reports = simulation.currentStep // s["interval"]
+    assert len(lines) == (1 + reports if reports else 0), "a report went missing or a line was added"
+    assert len(reporter.columns) == len(s["columns"]) + 5 * ("stress" in s["columns"])
+    rows = np.array([[float(v) for v in line.split(",")] for line in lines[1:]]).reshape(reports, len(reporter.columns))
+    assert_finite(rows, "reported value")
+    if "step" in s["columns"]:
+        np.testing.assert_array_equal(rows[:, 0], s["interval"] * np.arange(1, reports + 1))
+    state = simulation.context.getState(getPositions=True, getVelocities=True)
+    assert_finite(state.getPositions(asNumpy=True)._value, "positions")
+    assert_finite(state.getVelocities(asNumpy=True)._value, "velocities")
+    assert_finite(state.getPeriodicBoxVectors(asNumpy=True)._value, "box")
+    if ours is not None:
+        statistics = ours.getStressStatistics()
+        if statistics.steps:
+            assert_finite(statistics.mean(), "mean stress")
+
+
+@settings(max_examples=SHEAR_EXAMPLES, derandomize=True, database=None, deadline=None,
+          suppress_health_check=list(HealthCheck))
+@given(sheared_scenarios())
+def test_shear_stress_norton_and_the_reporter_end_in_a_clean_exception_or_a_finite_state(scenario):
+    try:
+        run_sheared_scenario(scenario)
+    except CLEAN_ERRORS as error:
+        assert str(error).strip(), f"{type(error).__name__} without a message"
