@@ -272,7 +272,7 @@ TEST(CpuPairEngine, SuccessiveSweepKernelIsThePairByPairUpdate) {
         CpuDPDSuccessiveSweep::Run runs[2];
         for (int run = 0; run < 2; run++)
             runs[run] = {static_cast<int>(pairs[run].a.size()), pairs[run].a.data(), pairs[run].b.data(), pairs[run].ex.data(),
-                         pairs[run].ey.data(), pairs[run].ez.data(), pairs[run].slope.data(), pairs[run].offset.data()};
+                         pairs[run].ey.data(), pairs[run].ez.data(), pairs[run].slope.data(), pairs[run].offset.data(), nullptr};
         ASSERT_GT(runs[0].count, 100);
         CpuDPDSuccessiveSweep::sweepSideBySide(runs, velocity.data(), uniformMass ? nullptr : inverseMass.data(), 0.5);
         EXPECT_LT(maxAbsDifference(velocity, expected), 1e-12*maxNorm(expected)) << (uniformMass ? "uniform" : "per-particle") << " masses";

@@ -3,11 +3,14 @@
 // periodic boundary conditions) and virtual sites see their molecule whole; a force whose value the
 // wrap would change is refused, naming it; a position any number of box heights away is legal.
 #include "DPDTestSupport.h"
+#include "openmm/CustomCentroidBondForce.h"
+#include "openmm/CustomCompoundBondForce.h"
 #include "openmm/CustomExternalForce.h"
 #include "openmm/HarmonicAngleForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/VirtualSite.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
 
 using namespace OpenMM;
 using namespace OpenMMDPD;
@@ -130,35 +133,44 @@ INSTANTIATE_TEST_SUITE_P(Schemes, ShearWithMolecules,
                          [](const auto& info) { return std::get<0>(info.param)+"_"+std::get<1>(info.param); });
 
 TEST(ShearWithPositionDerivedForces, AForceTheWrapWouldChangeIsRefusedNamingIt) {
-    for (const std::string& platformName : allPlatforms) {
-        {   // an external field in x: its energy changes when a particle is wrapped
+    // Each case: a second force, and the fragments of the refusal (none: accepted).
+    struct Case {
+        std::function<Force*()> make;
+        std::vector<std::string> refusal;
+    };
+    auto field = [](const std::string& energy) {
+        auto* force = new CustomExternalForce(energy);
+        for (int i = 0; i < 120; i++)
+            force->addParticle(i, {});
+        return force;
+    };
+    auto angleOfUnbondedParticles = [](bool periodic) {
+        auto* angles = new HarmonicAngleForce();
+        angles->addAngle(0, 1, 2, 2.0, 10.0);
+        angles->setUsesPeriodicBoundaryConditions(periodic);
+        return angles;
+    };
+    std::vector<Case> cases = {
+        {[&] { return field("0.1*x^2"); }, {"Lees-Edwards", "force 1 (CustomExternalForce)", "no periodic boundary conditions"}},
+        {[&] { return field("0.1*periodicdistance(x, 0, 0, 0, 0, 0)^2"); }, {}},
+        {[&] { return angleOfUnbondedParticles(false); }, {}}, // the wrap keeps its particles together
+        {[&] { return angleOfUnbondedParticles(true); }, {}}};
+    for (const std::string& platformName : allPlatforms)
+        for (const Case& each : cases) {
             SoftFluid fluid = makeSoftFluid(120, 3.0);
-            auto* field = new CustomExternalForce("0.1*x^2");
-            for (int i = 0; i < 120; i++)
-                field->addParticle(i, {});
-            fluid.system->addForce(field);
+            fluid.system->addForce(each.make());
             auto integrator = shearedIntegrator("ABOBA", 0.5);
             Context context(*fluid.system, *integrator, platform(platformName));
             context.setPositions(fluid.positions);
-            EXPECT_TRUE(throwsMentioning([&] { integrator->step(1); },
-                                         {"Lees-Edwards", "force 1 (CustomExternalForce)", "no periodic boundary conditions", "periodic"}))
-                << platformName;
+            if (each.refusal.empty()) {
+                EXPECT_NO_THROW(integrator->step(2)) << platformName;
+                continue;
+            }
+            EXPECT_TRUE(throwsMentioning([&] { integrator->step(1); }, each.refusal)) << platformName;
             // Without shear the same System runs (the wrap is the shear's).
             integrator->setLeesEdwards(0.0);
             EXPECT_NO_THROW(integrator->step(2)) << platformName;
         }
-        {   // a periodic version of it is accepted
-            SoftFluid fluid = makeSoftFluid(120, 3.0);
-            auto* field = new CustomExternalForce("0.1*periodicdistance(x, 0, 0, 0, 0, 0)^2");
-            for (int i = 0; i < 120; i++)
-                field->addParticle(i, {});
-            fluid.system->addForce(field);
-            auto integrator = shearedIntegrator("ABOBA", 0.5);
-            Context context(*fluid.system, *integrator, platform(platformName));
-            context.setPositions(fluid.positions);
-            EXPECT_NO_THROW(integrator->step(2)) << platformName;
-        }
-    }
 }
 
 TEST(ShearWithPositionDerivedForces, APositionManyBoxHeightsAwayRunsAsItsImageInTheBox) {
@@ -183,5 +195,62 @@ TEST(ShearWithPositionDerivedForces, APositionManyBoxHeightsAwayRunsAsItsImageIn
             }
             EXPECT_LT(maxAbsDifference(ends[0].positions, ends[1].positions), 1e-8) << platformName << " " << scheme;
             EXPECT_LT(maxAbsDifference(ends[0].velocities, ends[1].velocities), 1e-8) << platformName << " " << scheme;
+        }
+}
+
+TEST(ShearWithPositionDerivedForces, CompoundAndCentroidBondsKeepTheirParticlesTogether) {
+    // Terms OpenMM's molecules do not join (they come from bonds, constraints and virtual sites only):
+    // compound and centroid bonds.  Without periodic boundary conditions
+    // they once saw particles wrapped apart (a centroid-bonded fluid heated to 6.6 kT); now the wrap keeps
+    // each term's particles together, so they compute what their periodic versions compute.
+    auto compound = [](bool periodic) -> Force* {
+        auto* force = new CustomCompoundBondForce(2, "20*distance(p1, p2)^2");
+        for (int k = 0; k < 120; k += 3) {
+            force->addBond({k, k+1}, {});
+            force->addBond({k+1, k+2}, {});
+        }
+        force->setUsesPeriodicBoundaryConditions(periodic);
+        return force;
+    };
+    auto centroid = [](bool periodic) -> Force* {
+        auto* force = new CustomCentroidBondForce(2, "20*distance(g1, g2)^2");
+        for (int k = 0; k < 120; k++)
+            force->addGroup({k});
+        for (int k = 0; k < 120; k += 3) {
+            force->addBond({k, k+1}, {});
+            force->addBond({k+1, k+2}, {});
+        }
+        force->setUsesPeriodicBoundaryConditions(periodic);
+        return force;
+    };
+    for (const std::string& platformName : allPlatforms)
+        for (const auto& make : {std::function<Force*(bool)>(compound), std::function<Force*(bool)>(centroid)}) {
+            std::vector<Snapshot> ends;
+            std::string name;
+            Vec3 box[3];
+            for (bool periodic : {false, true}) {
+                SoftFluid fluid = makeSoftFluid(120, 3.0, 5);
+                for (int k = 0; k < 120; k += 3) { // each triple of a term close together in the raw positions
+                    fluid.positions[k+1] = fluid.positions[k]+Vec3(0.45, 0.0, 0.0);
+                    fluid.positions[k+2] = fluid.positions[k]+Vec3(0.2, 0.4, 0.0);
+                }
+                Force* force = make(periodic);
+                name = force->getName();
+                fluid.system->addForce(force);
+                auto integrator = shearedIntegrator("ABOBA", 0.5);
+                Context context(*fluid.system, *integrator, platform(platformName));
+                context.setPositions(fluid.positions);
+                context.setVelocitiesToTemperature(reducedTemperature, 4);
+                integrator->step(150);
+                ends.push_back(snapshot(context));
+                context.getState(0).getPeriodicBoxVectors(box[0], box[1], box[2]);
+            }
+            // The periodic System wraps particle by particle, the other term by term: the same positions up to lattice vectors.
+            double largest = 0.0;
+            for (std::size_t i = 0; i < ends[0].positions.size(); i++) {
+                Vec3 delta = DPDPeriodicBox::minimumImage(ends[0].positions[i]-ends[1].positions[i], box);
+                largest = std::max(largest, std::sqrt(delta.dot(delta)));
+            }
+            EXPECT_LT(largest, 1e-6) << platformName << " " << name;
         }
 }

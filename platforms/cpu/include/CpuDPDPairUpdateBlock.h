@@ -48,6 +48,12 @@ public:
     void compute(Kind kind, const DPDPairSweep& sweep, const Particles& particles, std::size_t count, const int* i, const int* j);
 
     std::vector<double> ex, ey, ez, r, slope, offset;
+    /**
+     * u = e . (v_a - v_b) of each pair as the successive sweep met it, when the sweep gathers stress:
+     * the sweep that reads the block writes it (hence mutable), and the stress is summed from it after
+     * the sweep, so that observing leaves the sweep's arithmetic, and the trajectory, unchanged.
+     */
+    mutable std::vector<double> relativeVelocity;
 };
 
 } // namespace OpenMMDPD

@@ -426,18 +426,31 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
         }
         cellSum[cell] = responseOfDissipation;
     };
-    bool plain = sweep.shearRate == 0.0 && sweep.stress == nullptr && response == nullptr;
+    // Without shear or Norton the hot loop, the runs side by side; with stress it records each pair's u, and the
+    // stress is summed from it afterwards: the same arithmetic, so the same trajectory, as without stress.
+    bool plain = sweep.shearRate == 0.0 && response == nullptr;
     auto apply = [&](int, const PairRun* runs) {
-        if (plain) { // the hot loop: the runs side by side, without the extras
+        if (plain) {
             CpuDPDSuccessiveSweep::Run sweepRuns[numStreams];
             for (int k = 0; k < numStreams; k++) {
                 const PairRun& run = runs[k];
                 const PairBuffer& pairs = buffers[run.buffer];
                 sweepRuns[k] = {run.pairEnd-run.pairBegin, &pairs.i[run.pairBegin], &pairs.j[run.pairBegin], run.block->ex.data(),
-                                run.block->ey.data(), run.block->ez.data(), run.block->slope.data(), run.block->offset.data()};
+                                run.block->ey.data(), run.block->ez.data(), run.block->slope.data(), run.block->offset.data(),
+                                sweep.stress != nullptr ? run.block->relativeVelocity.data() : nullptr};
             }
             CpuDPDSuccessiveSweep::sweepSideBySide(sweepRuns, sortedVelocities.data(), uniformSweep ? nullptr : sortedInverseMass.data(),
                                                    uniformInverseMass);
+            if (sweep.stress != nullptr)
+                for (int run = 0; run < numStreams; run++)
+                    for (int k = runs[run].cellBegin; k < runs[run].cellEnd; k++) {
+                        int cell = grid.cellsInSweepOrder[k];
+                        DPDPairStressSums* stress = cellStress.clearedSumsOf(sweep, cell);
+                        const CpuDPDPairUpdateBlock& block = *runs[run].block;
+                        for (int n = cellPairBegin[cell]-runs[run].pairBegin; n < cellPairEnd[cell]-runs[run].pairBegin; n++)
+                            stress->addPair(block.r[n], Vec3(block.ex[n], block.ey[n], block.ez[n]), block.slope[n]*block.relativeVelocity[n],
+                                            block.offset[n]);
+                    }
             return;
         }
         for (int run = 0; run < numStreams; run++)

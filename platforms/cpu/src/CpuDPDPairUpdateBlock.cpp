@@ -132,6 +132,8 @@ void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const 
     if (ex.size() < (wholeBlocks+1)*blockSize)
         for (std::vector<double>* out : {&ex, &ey, &ez, &r, &slope, &offset})
             out->resize((wholeBlocks+1)*blockSize);
+    if (sweep.stress != nullptr && relativeVelocity.size() < ex.size())
+        relativeVelocity.resize(ex.size());
     static const BlockPass passes[2][3] = {
         {selectBlockPass<OrnsteinUhlenbeck, false>(), selectBlockPass<BBK, false>(), selectBlockPass<DissipativeAndRandomForce, false>()},
         {selectBlockPass<OrnsteinUhlenbeck, true>(), selectBlockPass<BBK, true>(), selectBlockPass<DissipativeAndRandomForce, true>()}};

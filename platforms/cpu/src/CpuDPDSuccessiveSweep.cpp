@@ -21,7 +21,7 @@ inline __attribute__((always_inline)) double muladd(double a, double b, double c
  * it): v_a stays in registers through its run instead of a store and reload per pair, which the next
  * update would wait for.  The same operations in the same order: the same bits (b is never a).
  */
-template <bool uniform, bool fused>
+template <bool uniform, bool fused, bool recordRelativeVelocity>
 struct Stream {
     const CpuDPDSuccessiveSweep::Run run; // a copy: the velocity stores cannot alias it, so it stays in registers
     int n = 0, current = 0;
@@ -46,6 +46,8 @@ struct Stream {
         // the next, three multiply-adds for u, one for Delta p and one per component.
         double eDotVb = ex*vb[0] + ey*vb[1] + ez*vb[2];
         double u = muladd<fused>(ex, va[0], muladd<fused>(ey, va[1], muladd<fused>(ez, va[2], -eDotVb)));
+        if constexpr (recordRelativeVelocity)
+            run.relativeVelocity[n] = u;
         double deltaP = muladd<fused>(run.slope[n], u, run.offset[n]); // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
         double inverseMassA = uniform ? uniformInverseMass : inverseMass[a], inverseMassB = uniform ? uniformInverseMass : inverseMass[b];
         va[0] = muladd<fused>(ex*inverseMassA, deltaP, va[0]);
@@ -62,20 +64,29 @@ struct Stream {
     }
 };
 
-template <bool uniform, bool fused>
-inline __attribute__((always_inline)) void sweep(const CpuDPDSuccessiveSweep::Run* runs, Vec3* velocity, const double* inverseMass,
-                                                 double uniformInverseMass) {
+template <bool uniform, bool fused, bool recordRelativeVelocity>
+inline __attribute__((always_inline)) void sweepRecording(const CpuDPDSuccessiveSweep::Run* runs, Vec3* velocity, const double* inverseMass,
+                                                          double uniformInverseMass) {
     static_assert(CpuDPDSuccessiveSweep::numRuns == 2, "the side-by-side loop below takes two runs");
-    Stream<uniform, fused> one(runs[0], velocity), two(runs[1], velocity);
+    Stream<uniform, fused, recordRelativeVelocity> one(runs[0], velocity), two(runs[1], velocity);
     while (!one.done() && !two.done()) {
         one.step(velocity, inverseMass, uniformInverseMass);
         two.step(velocity, inverseMass, uniformInverseMass);
     }
-    for (Stream<uniform, fused>* stream : {&one, &two}) {
+    for (Stream<uniform, fused, recordRelativeVelocity>* stream : {&one, &two}) {
         while (!stream->done())
             stream->step(velocity, inverseMass, uniformInverseMass);
         stream->finish(velocity);
     }
+}
+
+template <bool uniform, bool fused>
+inline __attribute__((always_inline)) void sweep(const CpuDPDSuccessiveSweep::Run* runs, Vec3* velocity, const double* inverseMass,
+                                                 double uniformInverseMass) {
+    if (runs[0].relativeVelocity != nullptr)
+        sweepRecording<uniform, fused, true>(runs, velocity, inverseMass, uniformInverseMass);
+    else
+        sweepRecording<uniform, fused, false>(runs, velocity, inverseMass, uniformInverseMass);
 }
 
 /**

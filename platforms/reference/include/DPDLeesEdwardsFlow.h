@@ -48,10 +48,12 @@ public:
     int drift(std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities, const std::vector<double>& inverseMasses,
                double dt, double maxDisplacement) const;
     /**
-     * Before the first sheared step: learn the Context's molecules (particles that bonds, constraints
-     * or virtual sites join), which the wrap keeps whole, and throw an OpenMMException naming any force
-     * whose meaning the wrap would change: one with a potential that uses no periodic boundary
-     * conditions and joins no particles (an external field, a non-periodic nonbonded method).
+     * Before the first sheared step: learn the groups of particles the wrap keeps whole (the Context's
+     * molecules, which bonds, constraints and virtual sites make, joined further by the angles,
+     * torsions, compound and centroid bonds of forces without periodic boundary conditions), and throw
+     * an OpenMMException naming any force whose meaning the wrap would change: one with a potential
+     * that uses no periodic boundary conditions and joins no particles (an external field, a
+     * non-periodic nonbonded method).
      */
     void bindToContext(OpenMM::ContextImpl& context);
     bool isBoundToContext() const { return bound; }

@@ -22,8 +22,14 @@ namespace OpenMMDPD {
  */
 class DPDStressAccumulator {
 public:
+    /**
+     * Before a step that samples: read the pair potentials the Context computes for the integrated force
+     * groups (or read again what changed since).  Throws, naming the force, for one the conservative part
+     * cannot handle, before the step has moved anything.
+     */
+    void preparePotential(OpenMM::ContextImpl& context, int integrationGroups);
     /** Add a step's sample: kinetic and conservative parts at these positions and (peculiar) velocities. */
-    void addKineticAndConservative(OpenMM::ContextImpl& context, int integrationGroups, const std::vector<OpenMM::Vec3>& positions,
+    void addKineticAndConservative(const std::vector<OpenMM::Vec3>& positions,
                                    const std::vector<OpenMM::Vec3>& velocities, const std::vector<double>& masses, const OpenMM::Vec3* box);
     /** Add a step's pair sums of the dissipative and random parts; `scale` is 1/h for momentum changes, 1 for forces. */
     void addPairSums(const DPDPairStressSums& sums, double scale, const OpenMM::Vec3* box);

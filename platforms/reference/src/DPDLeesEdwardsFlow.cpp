@@ -4,6 +4,8 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/System.h"
 #include "openmm/CustomAngleForce.h"
+#include "openmm/CustomCentroidBondForce.h"
+#include "openmm/CustomCompoundBondForce.h"
 #include "openmm/CustomTorsionForce.h"
 #include "openmm/Force.h"
 #include "openmm/HarmonicAngleForce.h"
@@ -72,11 +74,13 @@ int DPDLeesEdwardsFlow::drift(std::vector<Vec3>& positions, std::vector<Vec3>& v
 namespace {
 
 /**
- * The particle sets of a bonded force's terms that OpenMM's molecules (made from bonds, constraints and
- * virtual sites) need not contain: angles and torsions.  Empty for any other force.
+ * The particle sets of the terms of a force that acts within groups of particles which OpenMM's
+ * molecules (made from bonds, constraints and virtual sites) need not join: angles, torsions, compound
+ * and centroid bonds.  Empty for any other force.
  */
 std::vector<std::vector<int> > termsOf(const OpenMM::Force& force) {
     std::vector<std::vector<int> > terms;
+    std::vector<int> particles;
     std::vector<double> parameters;
     if (auto* angles = dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force))
         for (int k = 0; k < angles->getNumAngles(); k++) {
@@ -111,7 +115,30 @@ std::vector<std::vector<int> > termsOf(const OpenMM::Force& force) {
             customTorsions->getTorsionParameters(k, p1, p2, p3, p4, parameters);
             terms.push_back({p1, p2, p3, p4});
         }
+    else if (auto* compound = dynamic_cast<const OpenMM::CustomCompoundBondForce*>(&force))
+        for (int k = 0; k < compound->getNumBonds(); k++) {
+            compound->getBondParameters(k, particles, parameters);
+            terms.push_back(particles);
+        }
+    else if (auto* centroid = dynamic_cast<const OpenMM::CustomCentroidBondForce*>(&force))
+        for (int k = 0; k < centroid->getNumBonds(); k++) {
+            std::vector<int> groups, term;
+            centroid->getBondParameters(k, groups, parameters);
+            for (int group : groups) {
+                std::vector<double> weights;
+                centroid->getGroupParameters(group, particles, weights);
+                term.insert(term.end(), particles.begin(), particles.end());
+            }
+            terms.push_back(term);
+        }
     return terms;
+}
+
+/** The representative of a particle's group (union-find with path halving). */
+int representative(std::vector<int>& parent, int particle) {
+    while (parent[particle] != particle)
+        particle = parent[particle] = parent[parent[particle]];
+    return particle;
 }
 
 } // namespace
@@ -119,42 +146,43 @@ std::vector<std::vector<int> > termsOf(const OpenMM::Force& force) {
 void DPDLeesEdwardsFlow::bindToContext(OpenMM::ContextImpl& context) {
     const OpenMM::System& system = context.getSystem();
     const std::vector<OpenMM::ForceImpl*>& impls = context.getForceImpls();
-    std::vector<int> moleculeOf(system.getNumParticles(), -1);
-    const std::vector<std::vector<int> >& molecules = context.getMolecules();
-    for (std::size_t m = 0; m < molecules.size(); m++)
-        for (int particle : molecules[m])
-            moleculeOf[particle] = static_cast<int>(m);
-    std::stringstream message;
-    message << "DPDIntegrator: Lees-Edwards shear (shear rate " << shearRate << " 1/ps) wraps every molecule into the sheared box at "
-            << "every step, which would change what force ";
+    // What the wrap keeps whole: OpenMM's molecules, joined further by every term of a force without
+    // periodic boundary conditions (an angle or compound bond between particles no bond joins).
+    std::vector<int> parent(system.getNumParticles());
+    for (int i = 0; i < system.getNumParticles(); i++)
+        parent[i] = i;
+    auto join = [&](const std::vector<int>& particles) {
+        for (std::size_t k = 1; k < particles.size(); k++)
+            parent[representative(parent, particles[k])] = representative(parent, particles[0]);
+    };
+    for (const std::vector<int>& molecule : context.getMolecules())
+        join(molecule);
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& force = system.getForce(k);
         if (force.usesPeriodicBoundaryConditions() || DPDPairPotentialTerms::hasNoPotential(force))
             continue;
-        // A bonded force sees its molecules whole; an angle or torsion must lie within one.
         std::vector<std::vector<int> > terms = termsOf(force);
-        for (std::size_t t = 0; t < terms.size(); t++)
-            for (int particle : terms[t])
-                if (moleculeOf[particle] != moleculeOf[terms[t][0]]) {
-                    message << k << " (" << force.getName() << ") computes: its term " << t << " joins particles of different "
-                            << "molecules (no chain of bonds, constraints or virtual sites links them), and it uses no periodic "
-                            << "boundary conditions.  Bond its particles, or call setUsesPeriodicBoundaryConditions(true)";
-                    throw OpenMM::OpenMMException(message.str());
-                }
+        for (const std::vector<int>& term : terms)
+            join(term);
         if (!terms.empty() || !impls[k]->getBondedParticles().empty())
             continue;
-        message << k << " (" << force.getName() << ") computes: it uses no periodic boundary conditions and joins no particles "
-                << "into molecules.  Make it periodic (a periodic nonbonded method, or periodicdistance in a custom expression) or "
-                << "leave it out of a sheared System";
+        std::stringstream message;
+        message << "DPDIntegrator: Lees-Edwards shear (shear rate " << shearRate << " 1/ps) wraps every molecule into the sheared box "
+                << "at every step, which would change what force " << k << " (" << force.getName() << ") computes: it uses no "
+                << "periodic boundary conditions and joins no particles into molecules.  Make it periodic (a periodic nonbonded "
+                << "method, or periodicdistance in a custom expression) or leave it out of a sheared System";
         throw OpenMM::OpenMMException(message.str());
     }
+    std::vector<std::vector<int> > groups(system.getNumParticles());
+    for (int i = 0; i < system.getNumParticles(); i++)
+        groups[representative(parent, i)].push_back(i);
     moleculesOfSeveral.clear();
     inMoleculeOfSeveral.assign(system.getNumParticles(), 0);
-    for (const std::vector<int>& molecule : molecules)
-        if (molecule.size() > 1) {
-            moleculesOfSeveral.push_back(molecule);
-            for (int particle : molecule)
+    for (std::vector<int>& group : groups)
+        if (group.size() > 1) {
+            for (int particle : group)
                 inMoleculeOfSeveral[particle] = 1;
+            moleculesOfSeveral.push_back(std::move(group));
         }
     bound = true;
 }

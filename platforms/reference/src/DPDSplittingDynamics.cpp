@@ -489,6 +489,8 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     }
     accumulateStress = integrator.getStressAccumulation();
     stepPairStress = DPDPairStressSums();
+    if (accumulateStress)
+        stress.preparePotential(context, integrationGroups);
     bool shareWork = moreStepsFollow && stepsMayShareWork(context);
     try {
         if (scheme == DPDIntegrator::ABOBA && integrator.getForcingMode() == DPDIntegrator::Norton)
@@ -507,7 +509,7 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     }
     if (accumulateStress) {
         stress.addPairSums(stepPairStress, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize, state.box);
-        stress.addKineticAndConservative(context, integrationGroups, state.positions, state.velocities, masses, state.box);
+        stress.addKineticAndConservative(state.positions, state.velocities, masses, state.box);
         stress.endSample();
     }
     if (scheme != DPDIntegrator::ABOBA) {

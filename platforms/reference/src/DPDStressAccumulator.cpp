@@ -94,12 +94,15 @@ void forEachPairWithinCutoff(const std::vector<Vec3>& positions, const Vec3* box
 
 } // namespace
 
-void DPDStressAccumulator::addKineticAndConservative(OpenMM::ContextImpl& context, int integrationGroups, const std::vector<Vec3>& positions,
-                                                     const std::vector<Vec3>& velocities, const std::vector<double>& masses, const Vec3* box) {
+void DPDStressAccumulator::preparePotential(OpenMM::ContextImpl& context, int integrationGroups) {
     if (!potential)
         potential = std::make_unique<DPDPairPotentialTerms>(context, integrationGroups); // throws for forces that are not isotropic pair potentials
     else
         potential->refresh(context); // updateParametersInContext and setParameter since the last sample
+}
+
+void DPDStressAccumulator::addKineticAndConservative(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+                                                     const std::vector<double>& masses, const Vec3* box) {
     double minusInverseVolume = -1.0/(box[0][0]*box[1][1]*box[2][2]);
     // Kinetic part with the peculiar velocities (eq. 3.3).
     double kinetic[6] = {};
