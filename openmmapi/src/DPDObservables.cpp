@@ -1,4 +1,5 @@
 #include "openmmdpd/DPDObservables.h"
+#include "openmmdpd/internal/DPDBondedTerms.h"
 #include "openmmdpd/internal/DPDContextAccess.h"
 #include "openmmdpd/internal/DPDPairPotentialTerms.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
@@ -31,6 +32,8 @@ void forEachPairWithin(const OpenMM::State& state, double maxDistance, const std
                     << ", " << positions[i][2] << "); pair observables need every position finite";
             throw OpenMM::OpenMMException(message.str());
         }
+    if (maxDistance == 0.0) // no pair potential (bonded forces alone)
+        return;
     OpenMM::NeighborList neighbors;
     std::vector<std::set<int> > noExclusions(positions.size());
     OpenMM::computeNeighborListVoxelHash(neighbors, positions.size(), positions, noExclusions, box, true, maxDistance);
@@ -48,6 +51,13 @@ double volume(const OpenMM::State& state) {
     return a[0]*b[1]*c[2];
 }
 
+/** The bonded terms' sums at the state's positions and box. */
+DPDBondedTerms::Sums bondedSums(const DPDBondedTerms& bonded, const OpenMM::State& state) {
+    Vec3 box[3];
+    state.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    return bonded.evaluate(state.getPositions(), box);
+}
+
 /** The force groups whose forces move the particles: the observables measure the potential of these forces. */
 int dynamicsForceGroups(OpenMM::Context& context) {
     return context.getIntegrator().getIntegrationForceGroups();
@@ -55,9 +65,15 @@ int dynamicsForceGroups(OpenMM::Context& context) {
 
 } // namespace
 
+void DPDObservables::checkPotentialIsUnderstood(OpenMM::Context& context) {
+    DPDPairPotentialTerms potential(DPDContextAccess::implOf(context), dynamicsForceGroups(context));
+    DPDBondedTerms bonded(DPDContextAccess::implOf(context), dynamicsForceGroups(context));
+}
+
 DPDObservables::ConfigurationalSums DPDObservables::configurationalSums(OpenMM::Context& context) {
     int groups = dynamicsForceGroups(context);
     DPDPairPotentialTerms potential(DPDContextAccess::implOf(context), groups);
+    DPDBondedTerms bonded(DPDContextAccess::implOf(context), groups);
     OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Forces, false, groups);
     ConfigurationalSums sums{0.0, 0.0};
     for (const Vec3& force : state.getForces())
@@ -67,6 +83,7 @@ DPDObservables::ConfigurationalSums DPDObservables::configurationalSums(OpenMM::
         potential.addDerivatives(i, j, r, first, second);
         sums.laplacian += 2.0*(second + 2.0*first/r); // lap_i u + lap_j u, u'' + (d-1) u'/r in d = 3
     });
+    sums.laplacian += bondedSums(bonded, state).laplacian;
     return sums;
 }
 
@@ -102,6 +119,7 @@ double DPDObservables::kineticTemperature(OpenMM::Context& context) {
 
 double DPDObservables::virialPressure(OpenMM::Context& context) {
     DPDPairPotentialTerms potential(DPDContextAccess::implOf(context), dynamicsForceGroups(context));
+    DPDBondedTerms bonded(DPDContextAccess::implOf(context), dynamicsForceGroups(context));
     OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Energy);
     double virial = 0.0; // sum over pairs of r . F_ij = -r u'(r)
     forEachPairWithin(state, potential.getMaxCutoff(), [&](int i, int j, double r) {
@@ -109,6 +127,7 @@ double DPDObservables::virialPressure(OpenMM::Context& context) {
         potential.addDerivatives(i, j, r, first, second);
         virial -= r*first;
     });
+    virial += bondedSums(bonded, state).virial; // sum_i q_i . F_i of the bonded terms
     return (2.0*state.getKineticEnergy() + virial)/(3.0*volume(state));
 }
 

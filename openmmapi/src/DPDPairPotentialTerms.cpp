@@ -1,4 +1,5 @@
 #include "openmmdpd/internal/DPDPairPotentialTerms.h"
+#include "openmmdpd/internal/DPDBondedTerms.h"
 #include "openmmdpd/internal/DPDForceImpl.h"
 #include "openmmdpd/DPDForce.h"
 #include "openmm/AndersenThermostat.h"
@@ -217,8 +218,8 @@ DPDPairPotentialTerms::DPDPairPotentialTerms(OpenMM::ContextImpl& context, int g
     const OpenMM::System& system = context.getSystem();
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& force = system.getForce(k);
-        if ((groups & (1 << force.getForceGroup())) == 0 || hasNoPotential(force))
-            continue;
+        if ((groups & (1 << force.getForceGroup())) == 0 || hasNoPotential(force) || DPDBondedTerms::understands(force))
+            continue; // bonded forces are DPDBondedTerms' own
         // The Context's force implementations are in the System's order, one a force.
         if (auto* dpd = dynamic_cast<const DPDForceImpl*>(impls[k]))
             terms.push_back(std::make_unique<SoftRepulsionTerm>(*dpd));
@@ -226,13 +227,11 @@ DPDPairPotentialTerms::DPDPairPotentialTerms(OpenMM::ContextImpl& context, int g
             terms.push_back(std::make_unique<CustomPairTerm>(*custom, k, context));
         else {
             std::stringstream message;
-            message << "DPDObservables: force " << k << " (" << force.getName()
-                    << ") is not a pair potential the observables understand (DPDForce or CustomNonbondedForce)";
+            message << "DPDObservables: force " << k << " (" << force.getName() << ") is not a potential the observables understand "
+                    << "(DPDForce, CustomNonbondedForce, harmonic and custom bonds, angles and torsions, RB torsions)";
             throw OpenMM::OpenMMException(message.str());
         }
     }
-    if (terms.empty())
-        throw OpenMM::OpenMMException("DPDObservables: the System has no pair potential (DPDForce or CustomNonbondedForce)");
     for (const auto& term : terms)
         maxCutoff = std::max(maxCutoff, term->cutoff());
 }

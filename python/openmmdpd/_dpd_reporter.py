@@ -188,8 +188,14 @@ class DPDReporter:
         unmet = self._unmet_needs(simulation.integrator, integrator)
         if unmet:
             raise ValueError("\n".join(unmet))
-        columns: List[Column] = []
         wanted = self._requested
+        for column in ("configurationalTemperature", "virialPressure"):
+            if wanted[column]:
+                try:  # a force the observables cannot compute is named now, not mid-run at the first report
+                    _openmmdpd.check_potential_is_understood(context)
+                except openmm.OpenMMException as error:
+                    raise ValueError(f"DPDReporter: column '{column}' cannot be computed for this System: {error}") from None
+        columns: List[Column] = []
         if wanted["step"]:
             columns.append(("Step", lambda sim, state: sim.currentStep))
         if wanted["time"]:

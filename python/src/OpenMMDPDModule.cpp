@@ -169,6 +169,7 @@ NB_MODULE(_openmmdpd, m) {
     });
     m.def("configurational_temperature", [](nb::handle context) { return DPDObservables::configurationalTemperature(contextOf(context)); });
     m.def("virial_pressure", [](nb::handle context) { return DPDObservables::virialPressure(contextOf(context)); });
+    m.def("check_potential_is_understood", [](nb::handle context) { DPDObservables::checkPotentialIsUnderstood(contextOf(context)); });
     m.def("pair_distance_histogram", [](nb::handle context, double maxDistance, int numBins) {
         return DPDObservables::pairDistanceHistogram(contextOf(context), maxDistance, numBins);
     });

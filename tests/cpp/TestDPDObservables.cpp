@@ -2,6 +2,7 @@
 // kinetic temperature, checked against direct computations written here.
 
 #include "DPDTestSupport.h"
+#include "openmm/NonbondedForce.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/VerletIntegrator.h"
@@ -72,15 +73,19 @@ TEST(DPDObservables, KineticTemperatureCountsMovingParticlesMinusMomentum) {
 }
 
 TEST(DPDObservables, ConfigurationalTemperatureRefusesForcesItCannotDifferentiate) {
-    // The Laplacian is known for pair potentials only: a bonded force must be refused, by name.
+    // Pair potentials and bonded forces have known Laplacians (DPDBondedTerms); charges with a
+    // reciprocal-space sum do not: refused, by name.
     SoftFluid fluid = makeSoftFluid(100, 3.0, 23);
-    auto* bond = new HarmonicBondForce();
-    bond->addBond(0, 1, 0.5, 10.0);
-    fluid.system->addForce(bond);
+    auto* charges = new NonbondedForce();
+    charges->setNonbondedMethod(NonbondedForce::Ewald);
+    charges->setCutoffDistance(1.0);
+    for (int i = 0; i < 100; i++)
+        charges->addParticle(i%2 == 0 ? 0.2 : -0.2, 0.3, 0.0);
+    fluid.system->addForce(charges);
     VerletIntegrator integrator(0.001);
     Context context(*fluid.system, integrator, platform("Reference"));
     context.setPositions(fluid.positions);
-    EXPECT_TRUE(throwsMentioning([&] { DPDObservables::configurationalSums(context); }, {"HarmonicBondForce"}));
+    EXPECT_TRUE(throwsMentioning([&] { DPDObservables::configurationalSums(context); }, {"force 1 (NonbondedForce)"}));
 }
 
 TEST(DPDObservables, CustomNonbondedCopyOfTheSoftForceGivesTheSameObservables) {

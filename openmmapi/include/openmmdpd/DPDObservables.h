@@ -45,6 +45,12 @@ public:
      * count N (N-1)/2 * 4 pi r^2 dr / V.
      */
     static std::vector<double> pairDistanceHistogram(OpenMM::Context& context, double maxDistance, int numBins);
+    /**
+     * Throw an OpenMMException naming the first force (and feature) of the integrated force groups that
+     * the configurational temperature, the virial pressure and the stress cannot compute; return
+     * otherwise.  What a reporter calls before its first report.
+     */
+    static void checkPotentialIsUnderstood(OpenMM::Context& context);
     /** The most bins pairDistanceHistogram accepts (8 MB of counts): far finer than any pair statistics resolve. */
     static constexpr int maximumHistogramBins = 1000000;
 };

@@ -5,6 +5,7 @@
 #include "openmm/internal/ContextImpl.h"
 #include "openmm/Vec3.h"
 #include "openmmdpd/DPDIntegrator.h"
+#include "openmmdpd/internal/DPDBondedTerms.h"
 #include "openmmdpd/internal/DPDPairPotentialTerms.h"
 #include <memory>
 #include <vector>
@@ -17,8 +18,9 @@ namespace OpenMMDPD {
  * of DPDIntegrator::StressStatistics.  The pair parts of the dissipative and random forces come from
  * the pair sweeps (DPDPairStressSums); the conservative part is an own pair pass over the isotropic
  * pair potentials the Context computes for the integrated force groups (DPDPairPotentialTerms:
- * DPDForce and CustomNonbondedForce with their parameters in the Context, read again every sample;
- * any other force makes the first sample throw).  Nothing is computed unless the integrator asks for stress.
+ * DPDForce and CustomNonbondedForce with their parameters in the Context, read again every sample),
+ * plus the virial tensor of its bonds, angles and torsions (DPDBondedTerms); any other force makes
+ * the first sample throw, before the step.  Nothing is computed unless the integrator asks for stress.
  */
 class DPDStressAccumulator {
 public:
@@ -43,6 +45,7 @@ public:
 private:
     DPDIntegrator::StressStatistics statistics;
     std::unique_ptr<DPDPairPotentialTerms> potential;
+    std::unique_ptr<DPDBondedTerms> bonded;
 };
 
 } // namespace OpenMMDPD

@@ -95,10 +95,14 @@ void forEachPairWithinCutoff(const std::vector<Vec3>& positions, const Vec3* box
 } // namespace
 
 void DPDStressAccumulator::preparePotential(OpenMM::ContextImpl& context, int integrationGroups) {
-    if (!potential)
-        potential = std::make_unique<DPDPairPotentialTerms>(context, integrationGroups); // throws for forces that are not isotropic pair potentials
-    else
-        potential->refresh(context); // updateParametersInContext and setParameter since the last sample
+    if (!potential) {
+        potential = std::make_unique<DPDPairPotentialTerms>(context, integrationGroups); // throws for forces it cannot handle
+        bonded = std::make_unique<DPDBondedTerms>(context, integrationGroups);
+    }
+    else { // updateParametersInContext and setParameter since the last sample
+        potential->refresh(context);
+        bonded->refresh(context);
+    }
 }
 
 void DPDStressAccumulator::addKineticAndConservative(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
@@ -121,12 +125,19 @@ void DPDStressAccumulator::addKineticAndConservative(const std::vector<Vec3>& po
     double cutoff = potential->getMaxCutoff();
     DPDPeriodicBox::checkCutoff("DPDIntegrator stress", cutoff, box);
     double conservative[6] = {};
-    forEachPairWithinCutoff(positions, box, cutoff, [&](int i, int j, const Vec3& delta, double r) {
-        double first = 0.0, second = 0.0;
-        potential->addDerivatives(i, j, r, first, second);
-        Vec3 e = delta/r;
-        DPDPairStressSums::addPair(conservative, r, -first, e[0], e[1], e[2]);
-    });
+    if (cutoff > 0.0) { // else no pair potential (bonded forces alone)
+        forEachPairWithinCutoff(positions, box, cutoff, [&](int i, int j, const Vec3& delta, double r) {
+            double first = 0.0, second = 0.0;
+            potential->addDerivatives(i, j, r, first, second);
+            Vec3 e = delta/r;
+            DPDPairStressSums::addPair(conservative, r, -first, e[0], e[1], e[2]);
+        });
+    }
+    if (!bonded->empty()) {
+        DPDBondedTerms::Sums sums = bonded->evaluate(positions, box);
+        for (int k = 0; k < 6; k++)
+            conservative[k] += sums.tensor[k]; // the same xx, yy, zz, xy, xz, yz order
+    }
     addSymmetric(statistics.conservative, conservative, minusInverseVolume);
 }
 

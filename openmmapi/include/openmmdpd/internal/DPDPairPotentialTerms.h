@@ -21,7 +21,8 @@ namespace OpenMMDPD {
  * other force with a potential, or a CustomNonbondedForce feature outside these (long-range
  * correction, tabulated functions, a non-periodic method), makes the constructor throw, naming the
  * force and the feature.  Forces outside `groups` are left out; forces without a potential
- * (CMMotionRemover, AndersenThermostat, barostats) are ignored.
+ * (CMMotionRemover, AndersenThermostat, barostats) are ignored, and so are the bonded forces that
+ * DPDBondedTerms understands (it takes their part).
  */
 class DPDPairPotentialTerms {
 public:

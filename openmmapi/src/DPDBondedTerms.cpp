@@ -1,0 +1,336 @@
+#include "openmmdpd/internal/DPDBondedTerms.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
+#include "openmm/CustomAngleForce.h"
+#include "openmm/CustomBondForce.h"
+#include "openmm/CustomTorsionForce.h"
+#include "openmm/HarmonicAngleForce.h"
+#include "openmm/HarmonicBondForce.h"
+#include "openmm/PeriodicTorsionForce.h"
+#include "openmm/RBTorsionForce.h"
+#include "lepton/ParsedExpression.h"
+#include "lepton/Parser.h"
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <string>
+
+using namespace OpenMMDPD;
+using OpenMM::Vec3;
+
+/** One force's terms: u(x) of each term's one coordinate (r, theta or phi) and its first two derivatives. */
+struct DPDBondedTerms::Force {
+    enum Coordinate { Distance, Angle, Dihedral };
+    Force(Coordinate coordinate, bool periodic) : coordinate(coordinate), periodic(periodic) {}
+    virtual ~Force() = default;
+    virtual void refresh(OpenMM::ContextImpl&) {}
+    virtual void energy(int term, double x, double& u, double& du, double& d2u) const = 0;
+    const Coordinate coordinate;
+    const bool periodic;
+    std::vector<std::array<int, 4> > particles; // of each term (the first 2, 3 or 4 used)
+};
+
+namespace {
+
+using Sums = DPDBondedTerms::Sums;
+
+/** u = k/2 (x - x0)^2 of bonds (x = r) and angles (x = theta). */
+class HarmonicTerms : public DPDBondedTerms::Force {
+public:
+    using Force::Force;
+    void energy(int term, double x, double& u, double& du, double& d2u) const override {
+        double k = stiffness[term], d = x-rest[term];
+        u = 0.5*k*d*d;
+        du = k*d;
+        d2u = k;
+    }
+    std::vector<double> rest, stiffness;
+};
+
+/** u = sum of k (1 + cos(n phi - phi0)) over a torsion's periodic terms. */
+class PeriodicTorsionTerms : public DPDBondedTerms::Force {
+public:
+    PeriodicTorsionTerms() : Force(Dihedral, false) {}
+    using Force::Force;
+    void energy(int term, double phi, double& u, double& du, double& d2u) const override {
+        double angle = multiplicity[term]*phi-phase[term], k = stiffness[term], n = multiplicity[term];
+        u = k*(1.0+std::cos(angle));
+        du = -k*n*std::sin(angle);
+        d2u = -k*n*n*std::cos(angle);
+    }
+    std::vector<double> multiplicity, phase, stiffness;
+};
+
+/** u = sum_n c_n cos(psi)^n with psi = phi - pi (OpenMM's Ryckaert-Bellemans convention). */
+class RyckaertBellemansTerms : public DPDBondedTerms::Force {
+public:
+    using Force::Force;
+    void energy(int term, double phi, double& u, double& du, double& d2u) const override {
+        double c = std::cos(phi-M_PI), s = std::sin(phi-M_PI);
+        u = du = d2u = 0.0;
+        for (int n = 0; n < 6; n++) {
+            double cn = coefficients[term][n];
+            u += cn*std::pow(c, n);
+            if (n >= 1)
+                du -= cn*n*std::pow(c, n-1)*s;
+            if (n >= 2)
+                d2u += cn*n*(n-1)*std::pow(c, n-2)*s*s;
+            if (n >= 1)
+                d2u -= cn*n*std::pow(c, n);
+        }
+    }
+    std::vector<std::array<double, 6> > coefficients;
+};
+
+/** A custom expression in one coordinate (r or theta), with per-term parameters and the Context's global values. */
+class CustomTerms : public DPDBondedTerms::Force {
+public:
+    template <class CustomForce>
+    CustomTerms(Coordinate coordinate, const CustomForce& force, const char* variable, std::vector<std::string> termParameterNames)
+        : Force(coordinate, force.usesPeriodicBoundaryConditions()), termParameterNames(std::move(termParameterNames)) {
+        Lepton::ParsedExpression expression = Lepton::Parser::parse(force.getEnergyFunction());
+        for (int order = 0; order < 3; order++) {
+            expressions[order] = expression.optimize();
+            expression = expression.differentiate(variable);
+        }
+        this->variable = variable;
+        for (int k = 0; k < force.getNumGlobalParameters(); k++)
+            globalNames.push_back(force.getGlobalParameterName(k));
+    }
+    void refresh(OpenMM::ContextImpl& context) override {
+        for (const std::string& name : globalNames)
+            variables[name] = context.getParameter(name);
+    }
+    void energy(int term, double x, double& u, double& du, double& d2u) const override {
+        variables[variable] = x;
+        for (std::size_t k = 0; k < termParameterNames.size(); k++)
+            variables[termParameterNames[k]] = termParameters[term][k];
+        u = expressions[0].evaluate(variables);
+        du = expressions[1].evaluate(variables);
+        d2u = expressions[2].evaluate(variables);
+    }
+    std::vector<std::vector<double> > termParameters;
+
+private:
+    Lepton::ParsedExpression expressions[3];
+    std::string variable;
+    std::vector<std::string> globalNames, termParameterNames;
+    mutable std::map<std::string, double> variables;
+};
+
+/** The dihedral angle of four points, with OpenMM's sign (its reference torsion kernels). */
+double dihedral(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4) {
+    Vec3 b1 = p1-p2, b2 = p3-p2, b3 = p3-p4; // OpenMM's r_ij, r_kj, r_kl
+    Vec3 n1 = b1.cross(b2), n2 = b2.cross(b3);
+    double angle = std::atan2(std::sqrt(n1.dot(n1)*n2.dot(n2)-n1.dot(n2)*n1.dot(n2)), n1.dot(n2));
+    return b1.dot(n2) < 0.0 ? -angle : angle;
+}
+
+void addOuter(double* tensor, const Vec3& q, const Vec3& force) {
+    tensor[0] += q[0]*force[0];
+    tensor[1] += q[1]*force[1];
+    tensor[2] += q[2]*force[2];
+    tensor[3] += 0.5*(q[0]*force[1]+q[1]*force[0]);
+    tensor[4] += 0.5*(q[0]*force[2]+q[2]*force[0]);
+    tensor[5] += 0.5*(q[1]*force[2]+q[2]*force[1]);
+}
+
+void addDistanceTerm(const DPDBondedTerms::Force& force, int term, const Vec3& delta, Sums& sums) {
+    double r = std::sqrt(delta.dot(delta)), u, du, d2u;
+    if (r == 0.0)
+        return;
+    force.energy(term, r, u, du, d2u);
+    sums.energy += u;
+    sums.laplacian += 2.0*(d2u+2.0*du/r); // lap_i u + lap_j u of u(|q_i - q_j|)
+    sums.virial -= r*du;                   // delta . F_i with F_i = -u' delta/r
+    addOuter(sums.tensor, delta, delta*(-du/r));
+}
+
+void addAngleTerm(const DPDBondedTerms::Force& force, int term, const Vec3& a, const Vec3& b, Sums& sums) {
+    double la = std::sqrt(a.dot(a)), lb = std::sqrt(b.dot(b));
+    if (la == 0.0 || lb == 0.0)
+        return;
+    Vec3 ea = a/la, eb = b/lb;
+    double c = std::max(-1.0, std::min(1.0, ea.dot(eb))), theta = std::acos(c), s = std::sin(theta), u, du, d2u;
+    force.energy(term, theta, u, du, d2u);
+    sums.energy += u;
+    if (s == 0.0) // exactly collinear: theta's derivatives are singular there (a set of measure zero)
+        return;
+    double gradientSquared = 2.0/(la*la)+2.0/(lb*lb)-2.0*c/(la*lb);
+    double laplacianOfTheta = 2.0*(c/s)*(1.0/(la*la)+1.0/(lb*lb))-2.0/(la*lb*s);
+    sums.laplacian += d2u*gradientSquared+du*laplacianOfTheta;
+    // F_1 = -u' grad_1 theta, grad_1 theta = -(e_b - cos e_a)/(|a| sin); likewise particle 3.  The virial is 0.
+    addOuter(sums.tensor, a, (eb-ea*c)*(du/(la*s)));
+    addOuter(sums.tensor, b, (ea-eb*c)*(du/(lb*s)));
+}
+
+void addDihedralTerm(const DPDBondedTerms::Force& force, int term, const Vec3* local, Sums& sums) {
+    double phi = dihedral(local[0], local[1], local[2], local[3]), u, du, d2u;
+    force.energy(term, phi, u, du, d2u);
+    sums.energy += u;
+    // grad phi and lap phi by central differences of the geometry (differences of phi reduced into (-pi, pi]).
+    const double h = 1e-4;
+    double gradientSquared = 0.0, laplacianOfPhi = 0.0;
+    Vec3 gradient[4];
+    for (int p = 0; p < 4; p++)
+        for (int d = 0; d < 3; d++) {
+            Vec3 moved[4] = {local[0], local[1], local[2], local[3]};
+            moved[p][d] += h;
+            double forward = std::remainder(dihedral(moved[0], moved[1], moved[2], moved[3])-phi, 2.0*M_PI);
+            moved[p][d] -= 2.0*h;
+            double backward = std::remainder(dihedral(moved[0], moved[1], moved[2], moved[3])-phi, 2.0*M_PI);
+            gradient[p][d] = (forward-backward)/(2.0*h);
+            gradientSquared += gradient[p][d]*gradient[p][d];
+            laplacianOfPhi += (forward+backward)/(h*h);
+        }
+    sums.laplacian += d2u*gradientSquared+du*laplacianOfPhi;
+    for (int p = 0; p < 4; p++)
+        addOuter(sums.tensor, local[p]-local[1], gradient[p]*(-du));
+}
+
+} // namespace
+
+bool DPDBondedTerms::understands(const OpenMM::Force& force) {
+    return dynamic_cast<const OpenMM::HarmonicBondForce*>(&force) != nullptr || dynamic_cast<const OpenMM::CustomBondForce*>(&force) != nullptr ||
+           dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force) != nullptr || dynamic_cast<const OpenMM::CustomAngleForce*>(&force) != nullptr ||
+           dynamic_cast<const OpenMM::PeriodicTorsionForce*>(&force) != nullptr || dynamic_cast<const OpenMM::RBTorsionForce*>(&force) != nullptr ||
+           dynamic_cast<const OpenMM::CustomTorsionForce*>(&force) != nullptr;
+}
+
+DPDBondedTerms::DPDBondedTerms(OpenMM::ContextImpl& context, int groups) {
+    const OpenMM::System& system = context.getSystem();
+    std::vector<double> parameters;
+    for (int k = 0; k < system.getNumForces(); k++) {
+        const OpenMM::Force& owner = system.getForce(k);
+        if ((groups & (1 << owner.getForceGroup())) == 0)
+            continue;
+        bool periodic = owner.usesPeriodicBoundaryConditions();
+        std::unique_ptr<Force> terms;
+        if (auto* bonds = dynamic_cast<const OpenMM::HarmonicBondForce*>(&owner)) {
+            auto harmonic = std::make_unique<HarmonicTerms>(Force::Distance, periodic);
+            for (int t = 0; t < bonds->getNumBonds(); t++) {
+                int p1, p2;
+                double length, stiffness;
+                bonds->getBondParameters(t, p1, p2, length, stiffness);
+                harmonic->particles.push_back({p1, p2, 0, 0});
+                harmonic->rest.push_back(length);
+                harmonic->stiffness.push_back(stiffness);
+            }
+            terms = std::move(harmonic);
+        }
+        else if (auto* angles = dynamic_cast<const OpenMM::HarmonicAngleForce*>(&owner)) {
+            auto harmonic = std::make_unique<HarmonicTerms>(Force::Angle, periodic);
+            for (int t = 0; t < angles->getNumAngles(); t++) {
+                int p1, p2, p3;
+                double angle, stiffness;
+                angles->getAngleParameters(t, p1, p2, p3, angle, stiffness);
+                harmonic->particles.push_back({p1, p2, p3, 0});
+                harmonic->rest.push_back(angle);
+                harmonic->stiffness.push_back(stiffness);
+            }
+            terms = std::move(harmonic);
+        }
+        else if (auto* torsions = dynamic_cast<const OpenMM::PeriodicTorsionForce*>(&owner)) {
+            auto periodicTorsions = std::make_unique<PeriodicTorsionTerms>(Force::Dihedral, periodic);
+            for (int t = 0; t < torsions->getNumTorsions(); t++) {
+                int p1, p2, p3, p4, multiplicity;
+                double phase, stiffness;
+                torsions->getTorsionParameters(t, p1, p2, p3, p4, multiplicity, phase, stiffness);
+                periodicTorsions->particles.push_back({p1, p2, p3, p4});
+                periodicTorsions->multiplicity.push_back(multiplicity);
+                periodicTorsions->phase.push_back(phase);
+                periodicTorsions->stiffness.push_back(stiffness);
+            }
+            terms = std::move(periodicTorsions);
+        }
+        else if (auto* rb = dynamic_cast<const OpenMM::RBTorsionForce*>(&owner)) {
+            auto rbTorsions = std::make_unique<RyckaertBellemansTerms>(Force::Dihedral, periodic);
+            for (int t = 0; t < rb->getNumTorsions(); t++) {
+                int p1, p2, p3, p4;
+                std::array<double, 6> c;
+                rb->getTorsionParameters(t, p1, p2, p3, p4, c[0], c[1], c[2], c[3], c[4], c[5]);
+                rbTorsions->particles.push_back({p1, p2, p3, p4});
+                rbTorsions->coefficients.push_back(c);
+            }
+            terms = std::move(rbTorsions);
+        }
+        else if (auto* customBonds = dynamic_cast<const OpenMM::CustomBondForce*>(&owner)) {
+            std::vector<std::string> names;
+            for (int p = 0; p < customBonds->getNumPerBondParameters(); p++)
+                names.push_back(customBonds->getPerBondParameterName(p));
+            auto custom = std::make_unique<CustomTerms>(Force::Distance, *customBonds, "r", names);
+            for (int t = 0; t < customBonds->getNumBonds(); t++) {
+                int p1, p2;
+                customBonds->getBondParameters(t, p1, p2, parameters);
+                custom->particles.push_back({p1, p2, 0, 0});
+                custom->termParameters.push_back(parameters);
+            }
+            terms = std::move(custom);
+        }
+        else if (auto* customAngles = dynamic_cast<const OpenMM::CustomAngleForce*>(&owner)) {
+            std::vector<std::string> names;
+            for (int p = 0; p < customAngles->getNumPerAngleParameters(); p++)
+                names.push_back(customAngles->getPerAngleParameterName(p));
+            auto custom = std::make_unique<CustomTerms>(Force::Angle, *customAngles, "theta", names);
+            for (int t = 0; t < customAngles->getNumAngles(); t++) {
+                int p1, p2, p3;
+                customAngles->getAngleParameters(t, p1, p2, p3, parameters);
+                custom->particles.push_back({p1, p2, p3, 0});
+                custom->termParameters.push_back(parameters);
+            }
+            terms = std::move(custom);
+        }
+        else if (auto* customTorsions = dynamic_cast<const OpenMM::CustomTorsionForce*>(&owner)) {
+            std::vector<std::string> names;
+            for (int p = 0; p < customTorsions->getNumPerTorsionParameters(); p++)
+                names.push_back(customTorsions->getPerTorsionParameterName(p));
+            auto custom = std::make_unique<CustomTerms>(Force::Dihedral, *customTorsions, "theta", names);
+            for (int t = 0; t < customTorsions->getNumTorsions(); t++) {
+                int p1, p2, p3, p4;
+                customTorsions->getTorsionParameters(t, p1, p2, p3, p4, parameters);
+                custom->particles.push_back({p1, p2, p3, p4});
+                custom->termParameters.push_back(parameters);
+            }
+            terms = std::move(custom);
+        }
+        if (terms != nullptr) {
+            terms->refresh(context);
+            forces.push_back(std::move(terms));
+        }
+    }
+}
+
+DPDBondedTerms::~DPDBondedTerms() = default;
+
+void DPDBondedTerms::refresh(OpenMM::ContextImpl& context) {
+    for (const auto& force : forces)
+        force->refresh(context);
+}
+
+DPDBondedTerms::Sums DPDBondedTerms::evaluate(const std::vector<Vec3>& positions, const Vec3* box) const {
+    Sums sums;
+    for (const auto& force : forces) {
+        // A term's particles as one whole image: each side by its minimum image when the force is periodic.
+        auto side = [&](int from, int to) {
+            Vec3 delta = positions[to]-positions[from];
+            return force->periodic ? DPDPeriodicBox::minimumImage(delta, box) : delta;
+        };
+        for (std::size_t t = 0; t < force->particles.size(); t++) {
+            const std::array<int, 4>& p = force->particles[t];
+            int term = static_cast<int>(t);
+            if (force->coordinate == Force::Distance)
+                addDistanceTerm(*force, term, side(p[1], p[0]), sums);
+            else if (force->coordinate == Force::Angle)
+                addAngleTerm(*force, term, side(p[1], p[0]), side(p[1], p[2]), sums);
+            else {
+                Vec3 local[4];
+                local[1] = Vec3();
+                local[0] = side(p[1], p[0]);
+                local[2] = side(p[1], p[2]);
+                local[3] = local[2]+side(p[2], p[3]);
+                addDihedralTerm(*force, term, local, sums);
+            }
+        }
+    }
+    return sums;
+}
