@@ -36,7 +36,10 @@ OURS = ["ABOBA", "VV", "S1"]
 LAMMPS = ["LAMMPS-VV", "LAMMPS-Shardlow"]
 # Rough microseconds per particle-step, to give each run about `seconds` of stepping.
 CUSTOM = ["ABOBA-CustomNonbonded", "OpenMM-Verlet-CustomNonbonded"]
-GUESS = {"ABOBA": 0.25, "VV": 0.25, "S1": 0.25, "OpenMM-DPD": 12.0, "ABOBA-CustomNonbonded": 3.0, "OpenMM-Verlet-CustomNonbonded": 2.6, "OpenMM-arrays": 0.05, "LAMMPS-VV": 1.4, "LAMMPS-Shardlow": 2.8}
+# What DPD users add to a plain step (issue targets: bonded forces <= 1.15x, stress accumulation <= 1.3x).
+ADDED = ["ABOBA-bonded", "ABOBA-stress", "VV-stress", "S1-stress"]
+ADDED_SIZES = (4000, 32000)
+GUESS = {"ABOBA-bonded": 0.3, "ABOBA-stress": 0.3, "VV-stress": 0.3, "S1-stress": 0.3, "ABOBA": 0.25, "VV": 0.25, "S1": 0.25, "OpenMM-DPD": 12.0, "ABOBA-CustomNonbonded": 3.0, "OpenMM-Verlet-CustomNonbonded": 2.6, "OpenMM-arrays": 0.05, "LAMMPS-VV": 1.4, "LAMMPS-Shardlow": 2.8}
 LEGEND = {
     "ABOBA": "openmmdpd DPDIntegrator scheme ABOBA + DPDForce (CPU platform)",
     "VV": "openmmdpd DPDIntegrator scheme VV + DPDForce (CPU platform)",
@@ -45,6 +48,8 @@ LEGEND = {
     "ABOBA-CustomNonbonded": "openmmdpd ABOBA, soft force as an OpenMM CustomNonbondedForce (CPU platform)",
     "OpenMM-Verlet-CustomNonbonded": "OpenMM's VerletIntegrator, same step, the same CustomNonbondedForce alone (CPU platform)",
     "OpenMM-arrays": "an OpenMM Context with no force and a VerletIntegrator: OpenMM's own arrays (memory baseline)",
+    "ABOBA-bonded": "ABOBA + DPDForce with chains of 10 beads: HarmonicBondForce, HarmonicAngleForce and a CustomBondForce",
+    "ABOBA-stress": "ABOBA + DPDForce with stress accumulation (setStressAccumulation(True)); VV-stress, S1-stress likewise",
     "LAMMPS-VV": "LAMMPS pair_style dpd + fix nve (velocity Verlet), neighbor skin 0.3, checked every step",
     "LAMMPS-Shardlow": "LAMMPS pair_style dpd/fdt + fix shardlow + fix nve (Shardlow splitting = DPD-S1)",
 }
@@ -92,6 +97,7 @@ def configurations(sizes: List[int], threads: List[int], with_lammps: bool, open
     for n in sizes:
         for t in threads:
             methods = OURS + (["OpenMM-DPD"] + CUSTOM if n <= openmm_dpd_max else []) + (LAMMPS if with_lammps else [])
+            methods += ADDED if n in ADDED_SIZES else []
             configs += [(m, n, t) for m in methods]
         # OpenMM's own arrays, with as many threads as the runs they are the baseline of: its CPU
         # platform keeps per-thread force buffers, which are OpenMM's memory, not ours.
@@ -172,6 +178,14 @@ def report(configs, samples, args, loads, elapsed) -> List[str]:
             lines.append(f"| {n} | {t} | {ratio(a, ('LAMMPS-VV', n, t))} | {ratio(('S1', n, t), ('LAMMPS-Shardlow', n, t))} | "
                          f"{ratio(a, ('OpenMM-DPD', n, t))} | {ratio(a, ('VV', n, t))} | {ratio(a, ('S1', n, t))} | {efficiency} | "
                          f"{ratio(('OpenMM-Verlet-CustomNonbonded', n, t), ('ABOBA-CustomNonbonded', n, t))} |")
+    lines += ["", "What bonded forces and stress accumulation add to a plain step (time ÷ the same scheme's plain step; "
+              "targets: bonded <= 1.15, stress <= 1.3):", "",
+              "| N | threads | ABOBA-bonded ÷ ABOBA | ABOBA-stress ÷ ABOBA | VV-stress ÷ VV | S1-stress ÷ S1 |", "|---|---|---|---|---|---|"]
+    for n in args.sizes:
+        for t in args.threads:
+            if any((m, n, t) in per_particle for m in ADDED):
+                lines.append(f"| {n} | {t} | {ratio(('ABOBA', n, t), ('ABOBA-bonded', n, t))} | {ratio(('ABOBA', n, t), ('ABOBA-stress', n, t))} | "
+                             f"{ratio(('VV', n, t), ('VV-stress', n, t))} | {ratio(('S1', n, t), ('S1-stress', n, t))} |")
     lines += ["", "Two threads against one (speed-up), per method and N:", ""]
     if 1 in args.threads and 2 in args.threads:
         for m in OURS + LAMMPS:

@@ -7,7 +7,9 @@ METHOD: ABOBA, VV, S1 (openmmdpd with DPDForce), ABOBA-CustomNonbonded (openmmdp
 force as a CustomNonbondedForce), OpenMM-Verlet-CustomNonbonded (OpenMM's VerletIntegrator with that force,
 same step: OpenMM's own cost for the force alone), OpenMM-DPD (openmm.DPDIntegrator with the soft force as
 a CustomNonbondedForce), OpenMM-arrays (an OpenMM VerletIntegrator and no force: OpenMM's own arrays,
-the baseline of the memory per particle).
+the baseline of the memory per particle), ABOBA-bonded (ABOBA with chains of 10 beads: harmonic bonds,
+angles and custom bonds beside the DPDForce); a suffix -stress (ABOBA-stress, VV-stress, S1-stress)
+turns stress accumulation on.
 """
 
 import json
@@ -22,6 +24,23 @@ from openmmdpd.study.scene import replace_with_custom_soft_force
 
 method, n, threads, steps = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 system, positions = dpd.soft_fluid(n, 3.0, seed=1)
+stress = method.endswith("-stress")
+if stress:
+    method = method[:-len("-stress")]
+if method == "ABOBA-bonded":  # chains of 10 beads: harmonic bonds, angles and a custom (FENE-like) bond on every other pair
+    bonds, angles, custom = mm.HarmonicBondForce(), mm.HarmonicAngleForce(), mm.CustomBondForce("0.5*k*r^2")
+    custom.addPerBondParameter("k")
+    for chain in range(n // 10):
+        first = 10 * chain
+        for b in range(9):
+            bonds.addBond(first + b, first + b + 1, 0.5, 50.0)
+            if b % 2 == 0:
+                custom.addBond(first + b, first + b + 1, [4.0])
+            if b < 8:
+                angles.addAngle(first + b, first + b + 1, first + b + 2, 3.14159, 3.0)
+    for force in (bonds, angles, custom):
+        system.addForce(force)
+    method = "ABOBA"
 if method in ("OpenMM-DPD", "ABOBA-CustomNonbonded", "OpenMM-Verlet-CustomNonbonded"):
     replace_with_custom_soft_force(system, 25.0, 1.0)
 if method == "OpenMM-DPD":
@@ -36,6 +55,7 @@ elif method == "OpenMM-arrays":
     integrator = mm.VerletIntegrator(0.04)
 else:
     integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.04, method)
+    integrator.setStressAccumulation(stress)
 context = mm.Context(system, integrator, mm.Platform.getPlatformByName("CPU"), {"Threads": threads})
 context.setPositions(positions)
 context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 1)

@@ -213,12 +213,12 @@ bool DPDPairPotentialTerms::hasNoPotential(const OpenMM::Force& force) {
            dynamic_cast<const OpenMM::MonteCarloFlexibleBarostat*>(&force) != nullptr;
 }
 
-DPDPairPotentialTerms::DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups) {
+DPDPairPotentialTerms::DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups, const OpenMM::ForceImpl* leftOut) {
     const std::vector<OpenMM::ForceImpl*>& impls = context.getForceImpls();
     const OpenMM::System& system = context.getSystem();
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& force = system.getForce(k);
-        if ((groups & (1 << force.getForceGroup())) == 0 || hasNoPotential(force) || DPDBondedTerms::understands(force))
+        if ((groups & (1 << force.getForceGroup())) == 0 || hasNoPotential(force) || DPDBondedTerms::understands(force) || impls[k] == leftOut)
             continue; // bonded forces are DPDBondedTerms' own
         // The Context's force implementations are in the System's order, one a force.
         if (auto* dpd = dynamic_cast<const DPDForceImpl*>(impls[k]))

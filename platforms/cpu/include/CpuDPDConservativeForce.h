@@ -25,10 +25,11 @@ public:
      * Pairs [0, paddedPairs) (sorted indices i, j and displacements d = q_i - q_j), of which the first
      * numPairs are real and the rest harmless padding (a multiple of 8 in all; the padding must have
      * valid indices and a nonzero displacement).  Adds the forces to `forces`, uses `magnitude` as
-     * scratch (paddedPairs entries), returns the energy.
+     * scratch (paddedPairs entries), returns the energy.  With `stress`, also writes there the sum of
+     * d (x) F over the pairs (xx, yy, zz, xy, xz, yz): their conservative stress, at no extra search.
      */
     static double add(std::size_t numPairs, std::size_t paddedPairs, const int* i, const int* j, const double* dx, const double* dy,
-                      const double* dz, const Table& table, double* magnitude, OpenMM::Vec3* forces);
+                      const double* dz, const Table& table, double* magnitude, OpenMM::Vec3* forces, double* stress = nullptr);
 };
 
 } // namespace OpenMMDPD

@@ -1,5 +1,6 @@
 // Compiled with -fno-math-errno (see CMakeLists.txt): sqrt then vectorises, and stays correctly rounded.
 #include "CpuDPDConservativeForce.h"
+#include <algorithm>
 #include <cmath>
 
 using namespace OpenMMDPD;
@@ -89,7 +90,21 @@ Pass selectPass() {
 } // namespace
 
 double CpuDPDConservativeForce::add(std::size_t numPairs, std::size_t paddedPairs, const int* i, const int* j, const double* dx,
-                                    const double* dy, const double* dz, const Table& table, double* magnitude, Vec3* forces) {
+                                    const double* dy, const double* dz, const Table& table, double* magnitude, Vec3* forces, double* stress) {
     static const Pass passes[2] = {selectPass<false>(), selectPass<true>()};
-    return passes[table.repulsion->numTypes == 1](numPairs, paddedPairs, i, j, dx, dy, dz, table, magnitude, forces);
+    double energy = passes[table.repulsion->numTypes == 1](numPairs, paddedPairs, i, j, dx, dy, dz, table, magnitude, forces);
+    if (stress != nullptr) { // F = magnitude d: d (x) F = magnitude d (x) d
+        double sums[6] = {0, 0, 0, 0, 0, 0};
+        for (std::size_t n = 0; n < numPairs; n++) {
+            double m = magnitude[n];
+            sums[0] += m*dx[n]*dx[n];
+            sums[1] += m*dy[n]*dy[n];
+            sums[2] += m*dz[n]*dz[n];
+            sums[3] += m*dx[n]*dy[n];
+            sums[4] += m*dx[n]*dz[n];
+            sums[5] += m*dy[n]*dz[n];
+        }
+        std::copy(sums, sums+6, stress);
+    }
+    return energy;
 }

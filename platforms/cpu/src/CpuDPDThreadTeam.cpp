@@ -1,4 +1,5 @@
 #include "CpuDPDThreadTeam.h"
+#include "CpuDPDCellGrid.h"
 #include "CpuDPDThreadBarrier.h"
 #include <chrono>
 
@@ -111,4 +112,12 @@ void CpuDPDThreadTeam::work(int thread) {
         }
         remaining.fetch_sub(1, std::memory_order_release);
     }
+}
+
+void CpuDPDThreadTeam::forEachRange(int count, int minPerThread, const std::function<void(int begin, int end)>& body) {
+    if (numThreads == 1 || count < 2*minPerThread) {
+        body(0, count);
+        return;
+    }
+    run([&](int thread) { body(CpuDPDCellGrid::shareBegin(count, thread, numThreads), CpuDPDCellGrid::shareBegin(count, thread+1, numThreads)); });
 }

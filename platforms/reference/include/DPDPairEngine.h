@@ -100,6 +100,12 @@ public:
                              const DPDTypePairTable::Compiled* repulsion, std::vector<OpenMM::Vec3>* forces) = 0;
     /** The radius of the latest search (0 before the first). */
     virtual double getRadius() const = 0;
+    /**
+     * While set, every search with `repulsion` also writes to `sink` the sum over its pairs of
+     * r_ij (x) F^C_ij (xx, yy, zz, xy, xz, yz): the conservative part of the stress (Shang 2021 eq. 3.3)
+     * from the force pass itself, instead of a pair pass of its own.  Null: not (the default).
+     */
+    void setConservativeStressSink(double* sink) { conservativeStressSink = sink; }
 
     /**
      * The exact pairwise Ornstein-Uhlenbeck sweep of ABOBA's O step (eqs. 2.14-2.17, 2.22).  With
@@ -152,6 +158,9 @@ public:
      */
     bool kick(std::vector<OpenMM::Vec3>& velocities, const std::vector<OpenMM::Vec3>& forces, const std::vector<double>& inverseMasses,
               double dt, std::vector<OpenMM::Vec3>* storedForces = nullptr);
+
+protected:
+    double* conservativeStressSink = nullptr;
 };
 
 /** How a platform makes its engines (one for a DPDForce kernel, one for an integrator's own pairs). */

@@ -132,6 +132,7 @@ private:
     unsigned long long sweepCounter = 0;
 
     ReferenceCalcDPDForceKernel* sharedForceKernel = nullptr;
+    const OpenMM::ForceImpl* sharedForceImpl = nullptr; // its DPDForce
     // When the integration groups hold DPDForces alone and no virtual site spreads forces, a step asks
     // them directly (evaluateForcesAndPairs) once the Context has evaluated its forces the usual way.
     bool forcesFromDPDForcesAlone = false;

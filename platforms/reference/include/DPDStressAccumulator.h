@@ -29,10 +29,14 @@ public:
      * groups (or read again what changed since).  Throws, naming the force, for one the conservative part
      * cannot handle, before the step has moved anything.
      */
-    void preparePotential(OpenMM::ContextImpl& context, int integrationGroups);
-    /** Add a step's sample: kinetic and conservative parts at these positions and (peculiar) velocities. */
-    void addKineticAndConservative(const std::vector<OpenMM::Vec3>& positions,
-                                   const std::vector<OpenMM::Vec3>& velocities, const std::vector<double>& masses, const OpenMM::Vec3* box);
+    void preparePotential(OpenMM::ContextImpl& context, int integrationGroups, const OpenMM::ForceImpl* summedByForcePass);
+    /**
+     * Add a step's sample: kinetic and conservative parts at these positions and (peculiar) velocities;
+     * `conservativeOfForcePass` (or null): the sum of r (x) F of the DPDForce that preparePotential's
+     * `summedByForcePass` named, from its own force pass (it is left out of the pass here).
+     */
+    void addKineticAndConservative(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities,
+                                   const std::vector<double>& masses, const OpenMM::Vec3* box, const double* conservativeOfForcePass);
     /** Add a step's pair sums of the dissipative and random parts; `scale` is 1/h for momentum changes, 1 for forces. */
     void addPairSums(const DPDPairStressSums& sums, double scale, const OpenMM::Vec3* box);
     /** Count the step (after both parts were added). */

@@ -95,6 +95,7 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
         auto* kernel = dynamic_cast<ReferenceCalcDPDForceKernel*>(&forceImpl->getKernel().getImpl());
         if (kernel != nullptr && forceImpl->getOwner().getTable().compile(system.getNumParticles()).maxCutoff >= friction.maxCutoff) {
             sharedForceKernel = kernel;
+            sharedForceImpl = forceImpl;
             break;
         }
     }
@@ -489,8 +490,22 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     }
     accumulateStress = integrator.getStressAccumulation();
     stepPairStress = DPDPairStressSums();
+    // The shared DPDForce's conservative stress comes from its own force pass (setConservativeStressSink),
+    // at the step's force evaluation: ABOBA's q^{n+1/2}, VV's and S1's q^{n+1}.
+    DPDPairEngine* forcePassStress = accumulateStress && sharedForceKernel != nullptr ? &sharedForceKernel->getPairEngine() : nullptr;
+    double conservativeOfForcePass[6];
+    long long evaluationsBefore = sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0;
     if (accumulateStress)
-        stress.preparePotential(context, integrationGroups);
+        stress.preparePotential(context, integrationGroups, forcePassStress != nullptr ? sharedForceImpl : nullptr);
+    struct ClearSink {
+        DPDPairEngine* engine;
+        ~ClearSink() {
+            if (engine != nullptr)
+                engine->setConservativeStressSink(nullptr);
+        }
+    } clearSink{forcePassStress};
+    if (forcePassStress != nullptr)
+        forcePassStress->setConservativeStressSink(conservativeOfForcePass);
     bool shareWork = moreStepsFollow && stepsMayShareWork(context);
     try {
         if (scheme == DPDIntegrator::ABOBA && integrator.getForcingMode() == DPDIntegrator::Norton)
@@ -509,7 +524,10 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     }
     if (accumulateStress) {
         stress.addPairSums(stepPairStress, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize, state.box);
-        stress.addKineticAndConservative(state.positions, state.velocities, masses, state.box);
+        if (forcePassStress != nullptr && sharedForceKernel->getEvaluationCount() == evaluationsBefore)
+            throw OpenMM::OpenMMException("DPDIntegrator: the step evaluated no force, so its stress sample has no conservative part");
+        stress.addKineticAndConservative(state.positions, state.velocities, masses, state.box,
+                                         forcePassStress != nullptr ? conservativeOfForcePass : nullptr);
         stress.endSample();
     }
     if (scheme != DPDIntegrator::ABOBA) {

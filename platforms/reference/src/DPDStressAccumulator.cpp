@@ -1,6 +1,7 @@
 #include "DPDStressAccumulator.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/reference/ReferenceNeighborList.h"
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -94,9 +95,9 @@ void forEachPairWithinCutoff(const std::vector<Vec3>& positions, const Vec3* box
 
 } // namespace
 
-void DPDStressAccumulator::preparePotential(OpenMM::ContextImpl& context, int integrationGroups) {
-    if (!potential) {
-        potential = std::make_unique<DPDPairPotentialTerms>(context, integrationGroups); // throws for forces it cannot handle
+void DPDStressAccumulator::preparePotential(OpenMM::ContextImpl& context, int integrationGroups, const OpenMM::ForceImpl* summedByForcePass) {
+    if (!potential) { // throws for forces it cannot handle
+        potential = std::make_unique<DPDPairPotentialTerms>(context, integrationGroups, summedByForcePass);
         bonded = std::make_unique<DPDBondedTerms>(context, integrationGroups);
     }
     else { // updateParametersInContext and setParameter since the last sample
@@ -106,7 +107,7 @@ void DPDStressAccumulator::preparePotential(OpenMM::ContextImpl& context, int in
 }
 
 void DPDStressAccumulator::addKineticAndConservative(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
-                                                     const std::vector<double>& masses, const Vec3* box) {
+                                                     const std::vector<double>& masses, const Vec3* box, const double* conservativeOfForcePass) {
     double minusInverseVolume = -1.0/(box[0][0]*box[1][1]*box[2][2]);
     // Kinetic part with the peculiar velocities (eq. 3.3).
     double kinetic[6] = {};
@@ -123,8 +124,11 @@ void DPDStressAccumulator::addKineticAndConservative(const std::vector<Vec3>& po
     addSymmetric(statistics.kinetic, kinetic, minusInverseVolume);
     // Conservative part: r_ij (x) F_ij with F_ij = -u'(r) e_ij for every pair within the largest cutoff.
     double cutoff = potential->getMaxCutoff();
-    DPDPeriodicBox::checkCutoff("DPDIntegrator stress", cutoff, box);
+    if (cutoff > 0.0)
+        DPDPeriodicBox::checkCutoff("DPDIntegrator stress", cutoff, box);
     double conservative[6] = {};
+    if (conservativeOfForcePass != nullptr)
+        std::copy(conservativeOfForcePass, conservativeOfForcePass+6, conservative);
     if (cutoff > 0.0) { // else no pair potential (bonded forces alone)
         forEachPairWithinCutoff(positions, box, cutoff, [&](int i, int j, const Vec3& delta, double r) {
             double first = 0.0, second = 0.0;

@@ -30,6 +30,8 @@ double ReferenceDPDPairEngine::findPairs(const std::vector<Vec3>& positions, con
         return 0.0;
     // Conservative pair force F_ij = a_ij (1 - r/rc) e_ij and energy a_ij rc/2 (1 - r/rc)^2 (eqs. 1.2-1.3).
     double energy = 0.0;
+    if (conservativeStressSink != nullptr)
+        std::fill(conservativeStressSink, conservativeStressSink+6, 0.0);
     for (const DPDPair& pair : pairs.pairs) {
         int ti = repulsion->particleTypeIndex[pair.i], tj = repulsion->particleTypeIndex[pair.j];
         double cutoff = repulsion->cutoffOf(ti, tj);
@@ -40,6 +42,8 @@ double ReferenceDPDPairEngine::findPairs(const std::vector<Vec3>& positions, con
         (*forces)[pair.i] += pair.unit*(a*w);
         (*forces)[pair.j] -= pair.unit*(a*w);
         energy += 0.5*a*cutoff*w*w;
+        if (conservativeStressSink != nullptr) // r_ij (x) F_ij, F_ij = a w e
+            DPDPairStressSums::addPair(conservativeStressSink, pair.r, a*w, pair.unit[0], pair.unit[1], pair.unit[2]);
     }
     return energy;
 }

@@ -26,8 +26,8 @@ namespace OpenMMDPD {
  */
 class DPDPairPotentialTerms {
 public:
-    /** The terms of the forces in the force groups `groups` (bit k for group k). */
-    DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups);
+    /** The terms of the forces in the force groups `groups` (bit k for group k), but for `leftOut`'s force, if any. */
+    DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups, const OpenMM::ForceImpl* leftOut = nullptr);
     ~DPDPairPotentialTerms();
     /** Read again what may have changed in the Context since construction (parameters, global values). */
     void refresh(OpenMM::ContextImpl& context);
