@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # `pip install .` in a fresh virtual environment that has nothing but PyPI's OpenMM: the isolated
 # build fetches scikit-build-core, nanobind and OpenMM's headers (the openmm wheel), compiles the
-# plugin, and the package imports and runs a few steps from outside the clone.
+# plugin, and the package imports and runs a few steps from outside the clone; then C++ programs are
+# built against that package with find_package(OpenMMDPD) and run (tools/check-cpp-install.sh).
 # Usage: tools/check-fresh-venv.sh [OPENMM_REQUIREMENT]   (default: openmm>=8.3)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+repository=$(pwd)
 requirement=${1:-openmm>=8.3}
 PYTHON=${PYTHON:-python3}
 scratch=$(mktemp -d)
@@ -23,3 +25,5 @@ integrator.step(100)
 print(f"fresh venv: OpenMM {openmm.__version__}, openmmdpd from {dpd.__file__}, "
       f"T_conf/T = {dpd.configurational_temperature(context) / dpd.REDUCED_TEMPERATURE:.3f}")
 PY
+cd "$repository"
+PYTHON="$scratch/venv/bin/python" bash tools/check-cpp-install.sh

@@ -2,8 +2,14 @@
 Shang (2021): velocity Verlet ("VV"), Shardlow's DPD-S1 ("S1") and ABOBA ("ABOBA").
 
 The classes ARE OpenMM objects: ``system.addForce(DPDForce())``, ``openmm.Context(system,
-DPDIntegrator(...))``, ``openmm.app.Simulation`` and ``openmm.XmlSerializer`` accept them.
+DPDIntegrator(...))``, ``openmm.app.Simulation`` and ``openmm.XmlSerializer`` accept them.  What
+OpenMM hands back typed as its base class (``XmlSerializer.deserialize``, ``System.getForce``) is
+a plain ``openmm.Force`` or ``openmm.Integrator``; ``DPDForce.cast(force)`` and
+``DPDIntegrator.cast(integrator)`` make it ours again, with our methods.
 Importing the package loads the plugin's Reference and CPU kernels into OpenMM.
+
+``python -m openmmdpd --cmake-dir`` (``--include-dir``, ``--plugin-dir``, ``--openmm-dir``,
+``--openmm-plugin-dir``) prints where the installed package keeps what a C++ program needs.
 """
 
 from ._plugin import load_kernels as _load_kernels
@@ -23,6 +29,7 @@ from ._observables import (  # noqa: E402
 )
 from ._scenes import REDUCED_TEMPERATURE, lj_fluid, soft_fluid  # noqa: E402
 from ._dpd_reporter import DPDReporter  # noqa: E402
+from ._velocities import set_velocities_to_temperature  # noqa: E402
 from .shear import StressStatistics, ShearSamples, sample_shear, shear_viscosity, plot_streaming_profile  # noqa: E402
 
 __all__ = [
@@ -40,6 +47,7 @@ __all__ = [
     "configurational_sums",
     "configurational_temperature",
     "kinetic_temperature",
+    "set_velocities_to_temperature",
     "virial_pressure",
     "pair_distance_histogram",
     "radial_distribution",
