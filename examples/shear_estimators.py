@@ -14,7 +14,7 @@ On the same trajectory, per sample interval:
 The sweep order of the O sweep is fixed by the engine (spatial cell order) and is not a user option, so it
 is not varied here.
 
-    PYTHONPATH=build/python python examples/shear_estimators.py [--time 10] [--steps 0.005 0.02 0.05]
+    python examples/shear_estimators.py [--time 10] [--steps 0.005 0.02 0.05]
 """
 
 from __future__ import annotations

@@ -13,7 +13,7 @@ order alone (the trajectories decorrelate, so the runs are independent samples o
 Scene: the sheared soft fluid of Table 6 (N = 500, rho = 3, a = 25, gamma = 450, kappa = 0.2); shipped
 estimator (kinetic + conservative + the momentum the O sweep exchanges, sum r (x) Delta p / h).
 
-    PYTHONPATH=build/python python examples/shear_sweep_order.py [--time 100] [--steps 0.01 0.05] [--runs 2]
+    python examples/shear_sweep_order.py [--time 100] [--steps 0.01 0.05] [--runs 2]
 """
 
 from __future__ import annotations

@@ -14,8 +14,8 @@ Fluid: rho = 3, a = 25, r_c = 1, kT = 1, unit masses; ABOBA at one friction.
     finite-k values and nu0 (difference in combined standard errors); a plot (nu vs k^2, LE as a band) and
     results.json go to --out.
 
-    PYTHONPATH=build/python python examples/viscosity_two_routes.py --friction 4.5 --out out/visc_4.5
-    PYTHONPATH=build/python python examples/viscosity_two_routes.py --friction 40.5 --time 80 --le-time 250 --out out/visc_40.5
+    python examples/viscosity_two_routes.py --friction 4.5 --out out/visc_4.5
+    python examples/viscosity_two_routes.py --friction 40.5 --time 80 --le-time 250 --out out/visc_40.5
 
 --time is the sampled time per run of each NEMD box, --le-time that of each LE run (longer by default: for
 equal cost the LE error is the larger).  The smallest box also runs at twice its forcing (U_1 must not

@@ -214,6 +214,7 @@ bool DPDPairPotentialTerms::hasNoPotential(const OpenMM::Force& force) {
 }
 
 DPDPairPotentialTerms::DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups, const OpenMM::ForceImpl* leftOut) {
+    leftOutAForce = leftOut != nullptr;
     const std::vector<OpenMM::ForceImpl*>& impls = context.getForceImpls();
     const OpenMM::System& system = context.getSystem();
     for (int k = 0; k < system.getNumForces(); k++) {

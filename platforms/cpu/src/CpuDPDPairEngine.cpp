@@ -437,13 +437,11 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             }
             CpuDPDSuccessiveSweep::sweepSideBySide(sweepRuns, sortedVelocities.data(), uniformSweep ? nullptr : sortedInverseMass.data(),
                                                    uniformInverseMass);
-            if (sweep.stress != nullptr)
-                for (int run = 0; run < numStreams; run++)
-                    for (int k = runs[run].cellBegin; k < runs[run].cellEnd; k++) {
-                        int cell = grid.cellsInSweepOrder[k];
-                        cellStress.addRecordedPairs(sweep, cell, *runs[run].block, cellPairBegin[cell]-runs[run].pairBegin,
-                                                    cellPairEnd[cell]-runs[run].pairBegin);
-                    }
+            for (int run = 0; run < numStreams && sweep.stress != nullptr; run++)
+                for (int k = runs[run].cellBegin; k < runs[run].cellEnd; k++) {
+                    int cell = grid.cellsInSweepOrder[k], first = runs[run].pairBegin;
+                    cellStress.addRecordedPairs(sweep, cell, *runs[run].block, cellPairBegin[cell]-first, cellPairEnd[cell]-first);
+                }
             return;
         }
         for (int run = 0; run < numStreams; run++)

@@ -26,28 +26,35 @@ class DPDStressAccumulator {
 public:
     /**
      * Before a step that samples: read the pair potentials the Context computes for the integrated force
-     * groups (or read again what changed since).  Throws, naming the force, for one the conservative part
-     * cannot handle, before the step has moved anything.
+     * groups (or read again what changed since), throwing, naming the force, for one the conservative
+     * part cannot handle, before the step has moved anything.  With `forcePassEngine`, the engine of the
+     * DPDForce `forcePassForce`, that force's conservative part is summed by its own force pass during
+     * the step (DPDPairEngine::setConservativeStressSink: at the step's force evaluation, ABOBA's
+     * q^{n+1/2}, VV's and S1's q^{n+1}) and left out of the pass here; `evaluations` is its kernel's
+     * count of evaluations so far.
      */
-    void preparePotential(OpenMM::ContextImpl& context, int integrationGroups, const OpenMM::ForceImpl* summedByForcePass);
+    void beginSample(OpenMM::ContextImpl& context, int integrationGroups, DPDPairEngine* forcePassEngine,
+                     const OpenMM::ForceImpl* forcePassForce, long long evaluations);
     /**
-     * Add a step's sample: kinetic and conservative parts at these positions and (peculiar) velocities;
-     * `conservativeOfForcePass` (or null): the sum of r (x) F of the DPDForce that preparePotential's
-     * `summedByForcePass` named, from its own force pass (it is left out of the pass here).
+     * After the step: add its sample (the kinetic and conservative parts at these positions and peculiar
+     * velocities, the sweeps' pair sums times `scale`: 1/h for momentum changes, 1 for forces) and count it.
      */
-    void addKineticAndConservative(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities,
-                                   const std::vector<double>& masses, const OpenMM::Vec3* box, const double* conservativeOfForcePass);
-    /** Add a step's pair sums of the dissipative and random parts; `scale` is 1/h for momentum changes, 1 for forces. */
-    void addPairSums(const DPDPairStressSums& sums, double scale, const OpenMM::Vec3* box);
-    /** Count the step (after both parts were added). */
-    void endSample() { statistics.steps++; }
+    void endSample(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities, const std::vector<double>& masses,
+                   const OpenMM::Vec3* box, const DPDPairStressSums& pairSums, double scale, long long evaluations);
+    /** The step threw: stop asking the force pass. */
+    void abandonSample();
 
     const DPDIntegrator::StressStatistics& getStatistics() const { return statistics; }
     DPDIntegrator::StressStatistics& getStatistics() { return statistics; }
     void reset() { statistics = DPDIntegrator::StressStatistics(); }
 
 private:
+    void addKineticAndConservative(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities,
+                                   const std::vector<double>& masses, const OpenMM::Vec3* box);
     DPDIntegrator::StressStatistics statistics;
+    DPDPairEngine* forcePassEngine = nullptr; // summing the shared DPDForce's part during the current step
+    double forcePassSums[6] = {};
+    long long evaluationsAtBegin = 0;
     std::unique_ptr<DPDPairPotentialTerms> potential;
     std::unique_ptr<DPDBondedTerms> bonded;
 };

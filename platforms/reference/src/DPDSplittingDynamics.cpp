@@ -490,22 +490,10 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
     }
     accumulateStress = integrator.getStressAccumulation();
     stepPairStress = DPDPairStressSums();
-    // The shared DPDForce's conservative stress comes from its own force pass (setConservativeStressSink),
-    // at the step's force evaluation: ABOBA's q^{n+1/2}, VV's and S1's q^{n+1}.
-    DPDPairEngine* forcePassStress = accumulateStress && sharedForceKernel != nullptr ? &sharedForceKernel->getPairEngine() : nullptr;
-    double conservativeOfForcePass[6];
-    long long evaluationsBefore = sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0;
-    if (accumulateStress)
-        stress.preparePotential(context, integrationGroups, forcePassStress != nullptr ? sharedForceImpl : nullptr);
-    struct ClearSink {
-        DPDPairEngine* engine;
-        ~ClearSink() {
-            if (engine != nullptr)
-                engine->setConservativeStressSink(nullptr);
-        }
-    } clearSink{forcePassStress};
-    if (forcePassStress != nullptr)
-        forcePassStress->setConservativeStressSink(conservativeOfForcePass);
+    long long forceEvaluations = sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0;
+    if (accumulateStress) // the shared DPDForce's conservative part from its own force pass (DPDStressAccumulator::beginSample)
+        stress.beginSample(context, integrationGroups, sharedForceKernel != nullptr ? &sharedForceKernel->getPairEngine() : nullptr,
+                           sharedForceImpl, forceEvaluations);
     bool shareWork = moreStepsFollow && stepsMayShareWork(context);
     try {
         if (scheme == DPDIntegrator::ABOBA && integrator.getForcingMode() == DPDIntegrator::Norton)
@@ -517,19 +505,15 @@ void DPDSplittingDynamics::step(OpenMM::ContextImpl& context, const DPDIntegrato
         else
             stepVV(context, stepSize, shareWork);
     }
-    catch (...) { // no half-done kick outlives the call
+    catch (...) { // no half-done kick outlives the call, nor a half-taken stress sample
         sharedPass = SharedPass::None;
         forceAtCurrentPositionsValid = false;
+        stress.abandonSample();
         throw;
     }
-    if (accumulateStress) {
-        stress.addPairSums(stepPairStress, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize, state.box);
-        if (forcePassStress != nullptr && sharedForceKernel->getEvaluationCount() == evaluationsBefore)
-            throw OpenMM::OpenMMException("DPDIntegrator: the step evaluated no force, so its stress sample has no conservative part");
-        stress.addKineticAndConservative(state.positions, state.velocities, masses, state.box,
-                                         forcePassStress != nullptr ? conservativeOfForcePass : nullptr);
-        stress.endSample();
-    }
+    if (accumulateStress)
+        stress.endSample(state.positions, state.velocities, masses, state.box, stepPairStress, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize,
+                         sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0);
     if (scheme != DPDIntegrator::ABOBA) {
         forceAtCurrentPositionsValid = sharedPass == SharedPass::None; // else not stored: the next step needs none
         for (int k = 0; k < 3; k++)

@@ -1,4 +1,5 @@
 #include "DPDStressAccumulator.h"
+#include "openmm/OpenMMException.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/reference/ReferenceNeighborList.h"
 #include <algorithm>
@@ -95,19 +96,43 @@ void forEachPairWithinCutoff(const std::vector<Vec3>& positions, const Vec3* box
 
 } // namespace
 
-void DPDStressAccumulator::preparePotential(OpenMM::ContextImpl& context, int integrationGroups, const OpenMM::ForceImpl* summedByForcePass) {
+void DPDStressAccumulator::beginSample(OpenMM::ContextImpl& context, int integrationGroups, DPDPairEngine* forcePassEngine,
+                                       const OpenMM::ForceImpl* forcePassForce, long long evaluations) {
     if (!potential) { // throws for forces it cannot handle
-        potential = std::make_unique<DPDPairPotentialTerms>(context, integrationGroups, summedByForcePass);
+        potential = std::make_unique<DPDPairPotentialTerms>(context, integrationGroups, forcePassEngine != nullptr ? forcePassForce : nullptr);
         bonded = std::make_unique<DPDBondedTerms>(context, integrationGroups);
     }
     else { // updateParametersInContext and setParameter since the last sample
         potential->refresh(context);
         bonded->refresh(context);
     }
+    this->forcePassEngine = forcePassEngine;
+    evaluationsAtBegin = evaluations;
+    if (forcePassEngine != nullptr)
+        forcePassEngine->setConservativeStressSink(forcePassSums);
+}
+
+void DPDStressAccumulator::abandonSample() {
+    if (forcePassEngine != nullptr)
+        forcePassEngine->setConservativeStressSink(nullptr);
+    forcePassEngine = nullptr;
+}
+
+void DPDStressAccumulator::endSample(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, const std::vector<double>& masses,
+                                     const Vec3* box, const DPDPairStressSums& pairSums, double scale, long long evaluations) {
+    bool forcePassSampled = forcePassEngine != nullptr;
+    abandonSample();
+    if (forcePassSampled && evaluations == evaluationsAtBegin)
+        throw OpenMM::OpenMMException("DPDIntegrator: the step evaluated no force, so its stress sample would lack the DPDForce's part");
+    double minusScaleOverVolume = -scale/(box[0][0]*box[1][1]*box[2][2]);
+    addSymmetric(statistics.dissipative, pairSums.dissipative, minusScaleOverVolume);
+    addSymmetric(statistics.random, pairSums.random, minusScaleOverVolume);
+    addKineticAndConservative(positions, velocities, masses, box);
+    statistics.steps++;
 }
 
 void DPDStressAccumulator::addKineticAndConservative(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
-                                                     const std::vector<double>& masses, const Vec3* box, const double* conservativeOfForcePass) {
+                                                     const std::vector<double>& masses, const Vec3* box) {
     double minusInverseVolume = -1.0/(box[0][0]*box[1][1]*box[2][2]);
     // Kinetic part with the peculiar velocities (eq. 3.3).
     double kinetic[6] = {};
@@ -127,8 +152,8 @@ void DPDStressAccumulator::addKineticAndConservative(const std::vector<Vec3>& po
     if (cutoff > 0.0)
         DPDPeriodicBox::checkCutoff("DPDIntegrator stress", cutoff, box);
     double conservative[6] = {};
-    if (conservativeOfForcePass != nullptr)
-        std::copy(conservativeOfForcePass, conservativeOfForcePass+6, conservative);
+    if (potential->leavesOutAForce()) // the shared DPDForce's part, from its force pass
+        std::copy(forcePassSums, forcePassSums+6, conservative);
     if (cutoff > 0.0) { // else no pair potential (bonded forces alone)
         forEachPairWithinCutoff(positions, box, cutoff, [&](int i, int j, const Vec3& delta, double r) {
             double first = 0.0, second = 0.0;
@@ -145,8 +170,3 @@ void DPDStressAccumulator::addKineticAndConservative(const std::vector<Vec3>& po
     addSymmetric(statistics.conservative, conservative, minusInverseVolume);
 }
 
-void DPDStressAccumulator::addPairSums(const DPDPairStressSums& sums, double scale, const Vec3* box) {
-    double minusScaleOverVolume = -scale/(box[0][0]*box[1][1]*box[2][2]);
-    addSymmetric(statistics.dissipative, sums.dissipative, minusScaleOverVolume);
-    addSymmetric(statistics.random, sums.random, minusScaleOverVolume);
-}

@@ -31,6 +31,8 @@ public:
     ~DPDPairPotentialTerms();
     /** Read again what may have changed in the Context since construction (parameters, global values). */
     void refresh(OpenMM::ContextImpl& context);
+    /** Whether the constructor was asked to leave a force out (its part is summed elsewhere). */
+    bool leavesOutAForce() const { return leftOutAForce; }
     /** The largest cutoff of all terms: every interacting pair is closer. */
     double getMaxCutoff() const { return maxCutoff; }
     /** Add u, du/dr and d2u/dr2 of every term for the pair (i, j) at distance r. */
@@ -49,6 +51,7 @@ public:
 private:
     std::vector<std::unique_ptr<Term> > terms;
     double maxCutoff = 0.0;
+    bool leftOutAForce = false;
 };
 
 } // namespace OpenMMDPD
