@@ -28,9 +28,7 @@ void CpuDPDPairEngine::shareBlocksOfColor(int color, int thread) {
 }
 
 namespace {
-
-constexpr std::size_t padding = 8;
-
+constexpr std::size_t padding = 8; // the force pass's vectors: pairs are padded to a multiple of it
 } // namespace
 
 __attribute__((target_clones("avx512f", "avx2", "default")))
@@ -405,7 +403,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     auto sweepCell = [&](auto uniform, const PairBuffer& pairs, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
         const double* inverseMass = sortedInverseMass.data();
         const double uniformInverseMass = this->uniformInverseMass;
-        DPDPairStressSums* stress = cellStress.clearedSumsOf(sweep, cell);
+        DPDPairStressSums sums; // summed in registers, stored once
         double responseOfDissipation = 0.0;
         Vec3* velocity = sortedVelocities.data();
         for (int k = first; k < last; k++) {
@@ -415,15 +413,15 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             double deltaP = block.slope[n]*u + block.offset[n]; // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
             velocity[a] += e*(deltaP*(uniform ? uniformInverseMass : inverseMass[a]));
             velocity[b] -= e*(deltaP*(uniform ? uniformInverseMass : inverseMass[b]));
-            if (stress != nullptr)
-                stress->addPair(block.r[n], e, block.slope[n]*u, block.offset[n]);
+            if (sweep.stress != nullptr)
+                sums.addPair(block.r[n], e, block.slope[n]*u, block.offset[n]);
             if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
                 responseOfDissipation += block.slope[n]*u*e.dot(sortedResponse[a]-sortedResponse[b]);
         }
+        cellStress.store(sweep, cell, sums);
         cellSum[cell] = responseOfDissipation;
     };
-    // Without shear or Norton the hot loop, the runs side by side; with stress it records each pair's u, and the
-    // stress is summed from it afterwards: the same arithmetic, so the same trajectory, as without stress.
+    // Without shear or Norton the hot loop; with stress it records each pair's u for the stress (the same arithmetic).
     bool plain = sweep.shearRate == 0.0 && response == nullptr;
     auto apply = [&](int, const PairRun* runs) {
         if (plain) {
@@ -514,7 +512,7 @@ void CpuDPDPairEngine::sweepDissipativeAndRandomForces(const DPDPairSweep& sweep
         }
     };
     auto applyToCell = [&](const PairBuffer& pairs, int cell, const CpuDPDPairUpdateBlock& block, int blockStart) {
-        DPDPairStressSums* stress = cellStress.clearedSumsOf(sweep, cell);
+        DPDPairStressSums sums; // summed in registers, stored once
         // No chain of dependent updates (as in O's sweep) hides the cache misses here: the partner of the pair 32 ahead,
         // a neighbour cell's particle far off in sorted order in a large box, is fetched early (10^6 particles: 3-5 % of VV's step).
         const int prefetchDistance = 32, last = static_cast<int>(pairs.size)-prefetchDistance;
@@ -529,9 +527,10 @@ void CpuDPDPairEngine::sweepDissipativeAndRandomForces(const DPDPairSweep& sweep
             Vec3 force = e*(block.slope[n]*u + block.offset[n]); // eqs. 2.2b, 2.2c
             result[a] += force;
             result[b] -= force;
-            if (stress != nullptr)
-                stress->addPair(block.r[n], e, block.slope[n]*u, block.offset[n]);
+            if (sweep.stress != nullptr)
+                sums.addPair(block.r[n], e, block.slope[n]*u, block.offset[n]);
         }
+        cellStress.store(sweep, cell, sums);
     };
     auto apply = [&](int, const PairRun* runs) {
         for (int run = 0; run < numStreams; run++)
