@@ -7,8 +7,9 @@ METHOD: ABOBA, VV, S1 (openmmdpd with DPDForce), ABOBA-CustomNonbonded (openmmdp
 force as a CustomNonbondedForce), OpenMM-Verlet-CustomNonbonded (OpenMM's VerletIntegrator with that force,
 same step: OpenMM's own cost for the force alone), OpenMM-DPD (openmm.DPDIntegrator with the soft force as
 a CustomNonbondedForce), OpenMM-arrays (an OpenMM VerletIntegrator and no force: OpenMM's own arrays,
-the baseline of the memory per particle), ABOBA-bonded (ABOBA with chains of 10 beads: harmonic bonds,
-angles and custom bonds beside the DPDForce); a suffix -stress (ABOBA-stress, VV-stress, S1-stress)
+the baseline of the memory per particle), ABOBA-bonded (ABOBA with chains of 10 beads: harmonic bonds
+and angles beside the DPDForce, which the step evaluates itself), ABOBA-custombonded (the same plus a
+CustomBondForce, which goes through the Context); a suffix -stress (ABOBA-stress, VV-stress, S1-stress)
 turns stress accumulation on.
 """
 
@@ -27,7 +28,7 @@ system, positions = dpd.soft_fluid(n, 3.0, seed=1)
 stress = method.endswith("-stress")
 if stress:
     method = method[:-len("-stress")]
-if method == "ABOBA-bonded":  # chains of 10 beads: harmonic bonds, angles and a custom (FENE-like) bond on every other pair
+if method in ("ABOBA-bonded", "ABOBA-custombonded"):  # chains of 10 beads: harmonic bonds and angles (and custom bonds)
     bonds, angles, custom = mm.HarmonicBondForce(), mm.HarmonicAngleForce(), mm.CustomBondForce("0.5*k*r^2")
     custom.addPerBondParameter("k")
     for chain in range(n // 10):
@@ -38,7 +39,7 @@ if method == "ABOBA-bonded":  # chains of 10 beads: harmonic bonds, angles and a
                 custom.addBond(first + b, first + b + 1, [4.0])
             if b < 8:
                 angles.addAngle(first + b, first + b + 1, first + b + 2, 3.14159, 3.0)
-    for force in (bonds, angles, custom):
+    for force in (bonds, angles, custom) if method == "ABOBA-custombonded" else (bonds, angles):
         system.addForce(force)
     method = "ABOBA"
 if method in ("OpenMM-DPD", "ABOBA-CustomNonbonded", "OpenMM-Verlet-CustomNonbonded"):

@@ -197,12 +197,16 @@ bool DPDBondedTerms::understands(const OpenMM::Force& force) {
            dynamic_cast<const OpenMM::CustomTorsionForce*>(&force) != nullptr;
 }
 
-DPDBondedTerms::DPDBondedTerms(OpenMM::ContextImpl& context, int groups) {
+bool DPDBondedTerms::hasAnalyticForces(const OpenMM::Force& force) {
+    return dynamic_cast<const OpenMM::HarmonicBondForce*>(&force) != nullptr || dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force) != nullptr;
+}
+
+DPDBondedTerms::DPDBondedTerms(OpenMM::ContextImpl& context, int groups, bool (*include)(const OpenMM::Force&)) {
     const OpenMM::System& system = context.getSystem();
     std::vector<double> parameters;
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& owner = system.getForce(k);
-        if ((groups & (1 << owner.getForceGroup())) == 0)
+        if ((groups & (1 << owner.getForceGroup())) == 0 || (include != nullptr && !include(owner)))
             continue;
         bool periodic = owner.usesPeriodicBoundaryConditions();
         std::unique_ptr<Force> terms;
@@ -333,4 +337,41 @@ DPDBondedTerms::Sums DPDBondedTerms::evaluate(const std::vector<Vec3>& positions
         }
     }
     return sums;
+}
+
+void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* box, std::vector<Vec3>& forces) const {
+    for (const auto& force : this->forces) {
+        auto side = [&](int from, int to) {
+            Vec3 delta = positions[to]-positions[from];
+            return force->periodic ? DPDPeriodicBox::minimumImage(delta, box) : delta;
+        };
+        for (std::size_t t = 0; t < force->particles.size(); t++) {
+            const std::array<int, 4>& p = force->particles[t];
+            double u, du, d2u;
+            if (force->coordinate == Force::Distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
+                Vec3 delta = side(p[1], p[0]);
+                double r = std::sqrt(delta.dot(delta));
+                if (r == 0.0)
+                    continue;
+                force->energy(static_cast<int>(t), r, u, du, d2u);
+                forces[p[0]] -= delta*(du/r);
+                forces[p[1]] += delta*(du/r);
+                continue;
+            }
+            // An angle: F_0 = -u' grad_0 theta = u' (e_b - cos e_a)/(|a| sin), likewise particle 2; F_1 balances them.
+            Vec3 a = side(p[1], p[0]), b = side(p[1], p[2]);
+            double la = std::sqrt(a.dot(a)), lb = std::sqrt(b.dot(b));
+            if (la == 0.0 || lb == 0.0)
+                continue;
+            Vec3 ea = a/la, eb = b/lb;
+            double c = std::max(-1.0, std::min(1.0, ea.dot(eb))), theta = std::acos(c), sine = std::sin(theta);
+            if (sine == 0.0) // exactly collinear: the direction of the force is undefined there (a set of measure zero)
+                continue;
+            force->energy(static_cast<int>(t), theta, u, du, d2u);
+            Vec3 first = (eb-ea*c)*(du/(la*sine)), third = (ea-eb*c)*(du/(lb*sine));
+            forces[p[0]] += first;
+            forces[p[2]] += third;
+            forces[p[1]] -= first+third;
+        }
+    }
 }

@@ -18,7 +18,7 @@ from typing import List, NamedTuple, Tuple, Union
 import numpy as np
 import openmm
 
-from .study.statistics import block_standard_error
+from ._statistics import block_standard_error
 
 PARTS: Tuple[str, ...] = ("kinetic", "conservative", "dissipative", "random")
 

@@ -6,6 +6,7 @@
 #include "DPDPairEngine.h"
 #include "DPDPairRandom.h"
 #include "DPDStressAccumulator.h"
+#include "openmmdpd/internal/DPDBondedTerms.h"
 #include "openmm/State.h"
 #include "openmm/internal/ContextImpl.h"
 #include "openmmdpd/DPDIntegrator.h"
@@ -135,7 +136,9 @@ private:
     const OpenMM::ForceImpl* sharedForceImpl = nullptr; // its DPDForce
     // When the integration groups hold DPDForces alone and no virtual site spreads forces, a step asks
     // them directly (evaluateForcesAndPairs) once the Context has evaluated its forces the usual way.
-    bool forcesFromDPDForcesAlone = false;
+    bool forcesFromDPDForcesAlone = false; // or harmonic bonds and angles, which directBondedForces evaluates
+    std::unique_ptr<DPDBondedTerms> directBondedForces;
+    bool directBondedStale = true;           // built at the first direct evaluation, again when parameters change
     std::vector<OpenMM::ForceImpl*> integratedForceImpls;
     bool contextEvaluatedForces = false;
     std::unique_ptr<DPDPairEngine> ownEngine;

@@ -73,16 +73,15 @@ DPDSplittingDynamics::DPDSplittingDynamics(OpenMM::ContextImpl& context, const D
     if (integrator.getShearRate() != 0.0)
         DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
 
-    // The usual DPD fluid's forces come from DPDForces alone.  A step then evaluates them directly and
-    // skips the platform's own begin and end of a force evaluation, which on the CPU platform convert
-    // the positions for OpenMM's kernels, clear and sum per-thread force arrays and hand work to its
-    // threads twice: work for forces this System does not have.  Virtual sites need that end (it
-    // spreads their forces), so they keep the usual evaluation.
+    // A DPD fluid's forces come from DPDForces, a polymer's also from harmonic bonds and angles: a step
+    // evaluates them directly (bonds and angles with DPDBondedTerms), skipping the platform's begin and
+    // end of an evaluation (CPU, N = 3 000: 0.27 ms, 2 700 bonds 0.02 ms).  Virtual sites need that end
+    // (it spreads their forces), so they keep the usual evaluation.
     forcesFromDPDForcesAlone = virtualSites.empty();
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
         if ((integrationGroups & (1 << impl->getOwner().getForceGroup())) == 0)
             continue;
-        forcesFromDPDForcesAlone &= dynamic_cast<DPDForceImpl*>(impl) != nullptr;
+        forcesFromDPDForcesAlone &= dynamic_cast<DPDForceImpl*>(impl) != nullptr || DPDBondedTerms::hasAnalyticForces(impl->getOwner());
         integratedForceImpls.push_back(impl);
     }
 
@@ -233,17 +232,16 @@ DPDPairEngine& DPDSplittingDynamics::evaluateForcesAndPairs(OpenMM::ContextImpl&
                 std::fill(forces.begin()+begin, forces.begin()+end, Vec3());
             });
         // Only for this evaluation, even if it throws: any other (a State's forces) must reach the Context.
-        struct KeepForcesSorted {
-            DPDPairEngine* engine;
-            ~KeepForcesSorted() {
-                if (engine != nullptr)
-                    engine->keepForcesSorted(false);
-            }
-        } keeping{keepForces ? forceKeepingEngine : nullptr};
+        std::unique_ptr<DPDPairEngine, void (*)(DPDPairEngine*)> keeping( // a scope guard: not kept once this evaluation ends
+            keepForces ? forceKeepingEngine : nullptr, [](DPDPairEngine* engine) { engine->keepForcesSorted(false); });
         if (keepForces)
             forceKeepingEngine->keepForcesSorted(true);
         for (OpenMM::ForceImpl* impl : integratedForceImpls)
-            impl->calcForcesAndEnergy(context, true, false, integrationGroups);
+            if (dynamic_cast<DPDForceImpl*>(impl) != nullptr)
+                impl->calcForcesAndEnergy(context, true, false, integrationGroups);
+        if (std::exchange(directBondedStale, false)) // the first time, or updateParametersInContext since
+            directBondedForces = std::make_unique<DPDBondedTerms>(context, integrationGroups, DPDBondedTerms::hasAnalyticForces);
+        directBondedForces->addForces(arrays(context).positions, arrays(context).box, forces);
     }
     else {
         context.calcForcesAndEnergy(true, false, integrationGroups);
@@ -539,6 +537,7 @@ void DPDSplittingDynamics::stateChanged(OpenMM::State::DataType changed) {
     // which belong to the restored state: keep them until the next step.
     if (keepStoredForceThroughStateChanges)
         return;
+    directBondedStale |= changed == OpenMM::State::Parameters || changed == OpenMM::State::Energy;
     if (changed == OpenMM::State::Positions || changed == OpenMM::State::Parameters || changed == OpenMM::State::Energy) {
         forceAtCurrentPositionsValid = false;
         pairsAtCurrentPositions = nullptr;

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple
@@ -13,10 +12,7 @@ import openmm as mm
 import openmmdpd as dpd
 from openmmdpd._scenes import make_fluid
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
+import tomllib  # Python >= 3.11, as pyproject.toml requires
 
 #: Methods a scene may name: the plugin's schemes with the scene's own conservative force, ABOBA with
 #: the soft force written as an OpenMM CustomNonbondedForce, and OpenMM's built-in DPDIntegrator.

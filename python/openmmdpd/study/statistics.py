@@ -6,16 +6,7 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-
-def block_standard_error(series: np.ndarray, min_blocks: int = 8) -> float:
-    """Standard error of the mean of a correlated series: the plateau of Flyvbjerg-Petersen blocking
-    (the largest estimate while at least min_blocks blocks remain)."""
-    data = np.asarray(series, dtype=float)
-    best = data.std(ddof=1) / np.sqrt(len(data)) if len(data) > 1 else np.nan
-    while len(data) >= 2 * min_blocks:
-        data = 0.5 * (data[: len(data) // 2 * 2 : 2] + data[1 : len(data) // 2 * 2 : 2])
-        best = max(best, data.std(ddof=1) / np.sqrt(len(data)))
-    return float(best)
+from .._statistics import block_standard_error  # the library's: the studies build on it, not the reverse
 
 
 def configurational_relative_error(runs: Sequence[Tuple[np.ndarray, np.ndarray]]) -> Tuple[float, float]:

@@ -3,7 +3,6 @@ the budgets.  See ``examples/scenes/transport_lj_fluid.toml`` for the format and
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Tuple
@@ -14,10 +13,7 @@ import openmm as mm
 import openmmdpd as dpd
 from openmmdpd._scenes import make_fluid
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
+import tomllib  # Python >= 3.11, as pyproject.toml requires
 
 #: The forcing profiles of Wu & Shang: two for the mobility (eqs. 76, 77), three for the viscosity (sec. 4.2.2).
 MOBILITY_PROFILES = ("ColourDrift", "TwoDrifts")

@@ -28,8 +28,13 @@ class DPDBondedTerms {
 public:
     /** Whether the observables read this force here (rather than as a pair potential). */
     static bool understands(const OpenMM::Force& force);
-    /** The terms of the understood forces in the force groups `groups` (bit k for group k). */
-    DPDBondedTerms(OpenMM::ContextImpl& context, int groups);
+    /**
+     * Whether addForces evaluates this force (HarmonicBondForce, HarmonicAngleForce: analytic, and cheap
+     * enough for every step); the others' forces are OpenMM's to compute.
+     */
+    static bool hasAnalyticForces(const OpenMM::Force& force);
+    /** The terms of the understood forces in the force groups `groups` (bit k for group k), those `include` accepts if given. */
+    DPDBondedTerms(OpenMM::ContextImpl& context, int groups, bool (*include)(const OpenMM::Force&) = nullptr);
     ~DPDBondedTerms();
     /** Read again the global parameter values of custom expressions from the Context. */
     void refresh(OpenMM::ContextImpl& context);
@@ -41,6 +46,8 @@ public:
         double virial = 0.0;      // sum_i q_i . F_i
         double tensor[6] = {};    // sum_i q_i (x) F_i: xx, yy, zz, xy, xz, yz (symmetric for these terms)
     };
+    /** Add every term's force -grad u to `forces` (each force must be one hasAnalyticForces accepts). */
+    void addForces(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, std::vector<OpenMM::Vec3>& forces) const;
     /** The sums over every term at these positions, in this box. */
     Sums evaluate(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box) const;
 
