@@ -19,6 +19,7 @@ import sys
 import time
 
 import openmm as mm
+import openmm.unit as unit
 
 import openmmdpd as dpd
 from openmmdpd.study.scene import replace_with_custom_soft_force
@@ -41,6 +42,14 @@ if method in ("ABOBA-bonded", "ABOBA-custombonded"):  # chains of 10 beads: harm
                 angles.addAngle(first + b, first + b + 1, first + b + 2, 3.14159, 3.0)
     for force in (bonds, angles, custom) if method == "ABOBA-custombonded" else (bonds, angles):
         system.addForce(force)
+    # A melt, not a fluid with bonds across the box: each chain a random walk of 0.5 nm steps from its first bead.
+    import numpy as np
+    walk = np.random.default_rng(2).normal(size=(n // 10, 9, 3))
+    walk *= 0.5 / np.linalg.norm(walk, axis=2, keepdims=True)
+    start = np.array(positions.value_in_unit(unit.nanometer) if unit.is_quantity(positions) else positions, dtype=float)
+    for chain in range(n // 10):
+        start[10 * chain + 1:10 * chain + 10] = start[10 * chain] + np.cumsum(walk[chain], axis=0)
+    positions = [mm.Vec3(*q) for q in start]
     method = "ABOBA"
 if method in ("OpenMM-DPD", "ABOBA-CustomNonbonded", "OpenMM-Verlet-CustomNonbonded"):
     replace_with_custom_soft_force(system, 25.0, 1.0)
