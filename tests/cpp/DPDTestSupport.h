@@ -3,6 +3,7 @@
 
 #include "openmm/Context.h"
 #include "openmm/CustomNonbondedForce.h"
+#include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
 #include "openmm/State.h"
@@ -346,6 +347,19 @@ inline BruteForceResult bruteForceDPD(const std::vector<OpenMM::Vec3>& positions
     for (const OpenMM::Vec3& f : result.forces)
         result.gradientSquared += f.dot(f);
     return result;
+}
+
+/**
+ * Charges of alternating sign on every particle of the System, as a NonbondedForce with a 1 nm cutoff
+ * and a reciprocal-space method: a potential the observables do not understand.
+ */
+inline void addAlternatingCharges(OpenMM::System& system, OpenMM::NonbondedForce::NonbondedMethod method, double charge) {
+    auto* charges = new OpenMM::NonbondedForce();
+    charges->setNonbondedMethod(method);
+    charges->setCutoffDistance(1.0);
+    for (int i = 0; i < system.getNumParticles(); i++)
+        charges->addParticle(i%2 == 0 ? charge : -charge, 0.3, 0.0);
+    system.addForce(charges);
 }
 
 /** Expect that `statement` throws an OpenMMException whose message contains every one of `fragments`. */

@@ -2,7 +2,6 @@
 // kinetic temperature, checked against direct computations written here.
 
 #include "DPDTestSupport.h"
-#include "openmm/NonbondedForce.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/VerletIntegrator.h"
@@ -76,12 +75,7 @@ TEST(DPDObservables, ConfigurationalTemperatureRefusesForcesItCannotDifferentiat
     // Pair potentials and bonded forces have known Laplacians (DPDBondedTerms); charges with a
     // reciprocal-space sum do not: refused, by name.
     SoftFluid fluid = makeSoftFluid(100, 3.0, 23);
-    auto* charges = new NonbondedForce();
-    charges->setNonbondedMethod(NonbondedForce::Ewald);
-    charges->setCutoffDistance(1.0);
-    for (int i = 0; i < 100; i++)
-        charges->addParticle(i%2 == 0 ? 0.2 : -0.2, 0.3, 0.0);
-    fluid.system->addForce(charges);
+    addAlternatingCharges(*fluid.system, NonbondedForce::Ewald, 0.2);
     VerletIntegrator integrator(0.001);
     Context context(*fluid.system, integrator, platform("Reference"));
     context.setPositions(fluid.positions);

@@ -3,7 +3,6 @@
 // and dissipative + random parts that average to zero, with every scheme.
 
 #include "DPDTestSupport.h"
-#include "openmm/NonbondedForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include <gtest/gtest.h>
 #include <cmath>
@@ -127,12 +126,7 @@ INSTANTIATE_TEST_SUITE_P(AllSchemes, StressTensor, ::testing::ValuesIn(allScheme
 TEST(StressTensorBadInput, ForcesTheStressCannotComputeAreNamed) {
     // Bonds, angles and torsions are understood (DPDBondedTerms); charges with PME are not.
     SoftFluid fluid = makeSoftFluid(100, 3.0);
-    auto* charges = new NonbondedForce();
-    charges->setNonbondedMethod(NonbondedForce::PME);
-    charges->setCutoffDistance(1.0);
-    for (int i = 0; i < 100; i++)
-        charges->addParticle(i%2 == 0 ? 0.1 : -0.1, 0.3, 0.0);
-    fluid.system->addForce(charges);
+    addAlternatingCharges(*fluid.system, NonbondedForce::PME, 0.1);
     DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.01, DPDIntegrator::ABOBA);
     integrator.setStressAccumulation(true);
     auto context = makeContext(fluid, integrator, "Reference");
