@@ -146,22 +146,85 @@ void addDistanceTerm(const DPDBondedTerms::Force& force, int term, const Vec3& d
     addOuter(sums.tensor, delta, delta*(-du/r));
 }
 
+/**
+ * An angle's geometry from its sides a = q_0 - q_1, b = q_2 - q_1, and the forces -u' grad theta on
+ * particles 0 and 2 (grad_0 theta = -(e_b - cos e_a)/(|a| sin), likewise particle 2; particle 1 takes
+ * minus their sum).  Not `defined` for a zero side or exactly collinear sides, where the derivatives of
+ * theta are singular (a set of measure zero).
+ */
+struct AngleGeometry {
+    AngleGeometry(const Vec3& a, const Vec3& b) : la(std::sqrt(a.dot(a))), lb(std::sqrt(b.dot(b))) {
+        if (la == 0.0 || lb == 0.0)
+            return;
+        ea = a/la;
+        eb = b/lb;
+        cosine = std::max(-1.0, std::min(1.0, ea.dot(eb)));
+        theta = std::acos(cosine);
+        sine = std::sin(theta);
+        defined = sine != 0.0;
+    }
+    Vec3 forceOnFirst(double du) const { return (eb-ea*cosine)*(du/(la*sine)); }
+    Vec3 forceOnThird(double du) const { return (ea-eb*cosine)*(du/(lb*sine)); }
+    double la, lb, cosine = 1.0, theta = 0.0, sine = 0.0;
+    Vec3 ea, eb;
+    bool defined = false;
+};
+
 void addAngleTerm(const DPDBondedTerms::Force& force, int term, const Vec3& a, const Vec3& b, Sums& sums) {
-    double la = std::sqrt(a.dot(a)), lb = std::sqrt(b.dot(b));
-    if (la == 0.0 || lb == 0.0)
+    AngleGeometry angle(a, b);
+    if (angle.la == 0.0 || angle.lb == 0.0)
         return;
-    Vec3 ea = a/la, eb = b/lb;
-    double c = std::max(-1.0, std::min(1.0, ea.dot(eb))), theta = std::acos(c), s = std::sin(theta), u, du, d2u;
-    force.energy(term, theta, u, du, d2u);
+    double u, du, d2u, la = angle.la, lb = angle.lb, c = angle.cosine, s = angle.sine;
+    force.energy(term, angle.theta, u, du, d2u);
     sums.energy += u;
-    if (s == 0.0) // exactly collinear: theta's derivatives are singular there (a set of measure zero)
+    if (!angle.defined)
         return;
     double gradientSquared = 2.0/(la*la)+2.0/(lb*lb)-2.0*c/(la*lb);
     double laplacianOfTheta = 2.0*(c/s)*(1.0/(la*la)+1.0/(lb*lb))-2.0/(la*lb*s);
     sums.laplacian += d2u*gradientSquared+du*laplacianOfTheta;
-    // F_1 = -u' grad_1 theta, grad_1 theta = -(e_b - cos e_a)/(|a| sin); likewise particle 3.  The virial is 0.
-    addOuter(sums.tensor, a, (eb-ea*c)*(du/(la*s)));
-    addOuter(sums.tensor, b, (ea-eb*c)*(du/(lb*s)));
+    addOuter(sums.tensor, a, angle.forceOnFirst(du)); // the virial is 0 (theta is scale-invariant)
+    addOuter(sums.tensor, b, angle.forceOnThird(du));
+}
+
+/**
+ * visit(force, term, local) for every term, with its particles as one whole image relative to particle
+ * 1: local[0] = q_0 - q_1, local[1] = 0, local[2] = q_2 - q_1, local[3] = local[2] + q_3 - q_2, each side
+ * by its minimum image when the force is periodic (the entries a term does not have are not read).
+ */
+template <class Visit>
+void forEachTerm(const std::vector<std::unique_ptr<DPDBondedTerms::Force> >& forces, const std::vector<Vec3>& positions,
+                 const Vec3* box, Visit visit) {
+    for (const auto& force : forces) {
+        auto side = [&](int from, int to) {
+            Vec3 delta = positions[to]-positions[from];
+            return force->periodic ? DPDPeriodicBox::minimumImage(delta, box) : delta;
+        };
+        for (std::size_t t = 0; t < force->particles.size(); t++) {
+            const std::array<int, 4>& p = force->particles[t];
+            Vec3 local[4];
+            local[0] = side(p[1], p[0]);
+            if (force->coordinate != DPDBondedTerms::Force::Distance)
+                local[2] = side(p[1], p[2]);
+            if (force->coordinate == DPDBondedTerms::Force::Dihedral)
+                local[3] = local[2]+side(p[2], p[3]);
+            visit(*force, static_cast<int>(t), local);
+        }
+    }
+}
+
+/** The terms of a custom bonded force: readTerm(t, particles, parameters) reads term t. */
+template <class CustomForce, class ReadTerm>
+std::unique_ptr<DPDBondedTerms::Force> customTerms(DPDBondedTerms::Force::Coordinate coordinate, const CustomForce& force, const char* variable,
+                                                   std::vector<std::string> parameterNames, int numTerms, ReadTerm readTerm) {
+    auto custom = std::make_unique<CustomTerms>(coordinate, force, variable, std::move(parameterNames));
+    std::vector<double> parameters;
+    for (int t = 0; t < numTerms; t++) {
+        std::array<int, 4> particles = {0, 0, 0, 0};
+        readTerm(t, particles, parameters);
+        custom->particles.push_back(particles);
+        custom->termParameters.push_back(parameters);
+    }
+    return custom;
 }
 
 void addDihedralTerm(const DPDBondedTerms::Force& force, int term, const Vec3* local, Sums& sums) {
@@ -203,7 +266,6 @@ bool DPDBondedTerms::hasAnalyticForces(const OpenMM::Force& force) {
 
 DPDBondedTerms::DPDBondedTerms(OpenMM::ContextImpl& context, int groups, bool (*include)(const OpenMM::Force&)) {
     const OpenMM::System& system = context.getSystem();
-    std::vector<double> parameters;
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& owner = system.getForce(k);
         if ((groups & (1 << owner.getForceGroup())) == 0 || (include != nullptr && !include(owner)))
@@ -262,40 +324,26 @@ DPDBondedTerms::DPDBondedTerms(OpenMM::ContextImpl& context, int groups, bool (*
             std::vector<std::string> names;
             for (int p = 0; p < customBonds->getNumPerBondParameters(); p++)
                 names.push_back(customBonds->getPerBondParameterName(p));
-            auto custom = std::make_unique<CustomTerms>(Force::Distance, *customBonds, "r", names);
-            for (int t = 0; t < customBonds->getNumBonds(); t++) {
-                int p1, p2;
-                customBonds->getBondParameters(t, p1, p2, parameters);
-                custom->particles.push_back({p1, p2, 0, 0});
-                custom->termParameters.push_back(parameters);
-            }
-            terms = std::move(custom);
+            terms = customTerms(Force::Distance, *customBonds, "r", names, customBonds->getNumBonds(),
+                                [&](int t, std::array<int, 4>& p, std::vector<double>& values) { customBonds->getBondParameters(t, p[0], p[1], values); });
         }
         else if (auto* customAngles = dynamic_cast<const OpenMM::CustomAngleForce*>(&owner)) {
             std::vector<std::string> names;
             for (int p = 0; p < customAngles->getNumPerAngleParameters(); p++)
                 names.push_back(customAngles->getPerAngleParameterName(p));
-            auto custom = std::make_unique<CustomTerms>(Force::Angle, *customAngles, "theta", names);
-            for (int t = 0; t < customAngles->getNumAngles(); t++) {
-                int p1, p2, p3;
-                customAngles->getAngleParameters(t, p1, p2, p3, parameters);
-                custom->particles.push_back({p1, p2, p3, 0});
-                custom->termParameters.push_back(parameters);
-            }
-            terms = std::move(custom);
+            terms = customTerms(Force::Angle, *customAngles, "theta", names, customAngles->getNumAngles(),
+                                [&](int t, std::array<int, 4>& p, std::vector<double>& values) {
+                                    customAngles->getAngleParameters(t, p[0], p[1], p[2], values);
+                                });
         }
         else if (auto* customTorsions = dynamic_cast<const OpenMM::CustomTorsionForce*>(&owner)) {
             std::vector<std::string> names;
             for (int p = 0; p < customTorsions->getNumPerTorsionParameters(); p++)
                 names.push_back(customTorsions->getPerTorsionParameterName(p));
-            auto custom = std::make_unique<CustomTerms>(Force::Dihedral, *customTorsions, "theta", names);
-            for (int t = 0; t < customTorsions->getNumTorsions(); t++) {
-                int p1, p2, p3, p4;
-                customTorsions->getTorsionParameters(t, p1, p2, p3, p4, parameters);
-                custom->particles.push_back({p1, p2, p3, p4});
-                custom->termParameters.push_back(parameters);
-            }
-            terms = std::move(custom);
+            terms = customTerms(Force::Dihedral, *customTorsions, "theta", names, customTorsions->getNumTorsions(),
+                                [&](int t, std::array<int, 4>& p, std::vector<double>& values) {
+                                    customTorsions->getTorsionParameters(t, p[0], p[1], p[2], p[3], values);
+                                });
         }
         if (terms != nullptr) {
             terms->refresh(context);
@@ -313,65 +361,37 @@ void DPDBondedTerms::refresh(OpenMM::ContextImpl& context) {
 
 DPDBondedTerms::Sums DPDBondedTerms::evaluate(const std::vector<Vec3>& positions, const Vec3* box) const {
     Sums sums;
-    for (const auto& force : forces) {
-        // A term's particles as one whole image: each side by its minimum image when the force is periodic.
-        auto side = [&](int from, int to) {
-            Vec3 delta = positions[to]-positions[from];
-            return force->periodic ? DPDPeriodicBox::minimumImage(delta, box) : delta;
-        };
-        for (std::size_t t = 0; t < force->particles.size(); t++) {
-            const std::array<int, 4>& p = force->particles[t];
-            int term = static_cast<int>(t);
-            if (force->coordinate == Force::Distance)
-                addDistanceTerm(*force, term, side(p[1], p[0]), sums);
-            else if (force->coordinate == Force::Angle)
-                addAngleTerm(*force, term, side(p[1], p[0]), side(p[1], p[2]), sums);
-            else {
-                Vec3 local[4];
-                local[1] = Vec3();
-                local[0] = side(p[1], p[0]);
-                local[2] = side(p[1], p[2]);
-                local[3] = local[2]+side(p[2], p[3]);
-                addDihedralTerm(*force, term, local, sums);
-            }
-        }
-    }
+    forEachTerm(forces, positions, box, [&](const Force& force, int term, const Vec3* local) {
+        if (force.coordinate == Force::Distance)
+            addDistanceTerm(force, term, local[0], sums);
+        else if (force.coordinate == Force::Angle)
+            addAngleTerm(force, term, local[0], local[2], sums);
+        else
+            addDihedralTerm(force, term, local, sums);
+    });
     return sums;
 }
 
-void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* box, std::vector<Vec3>& forces) const {
-    for (const auto& force : this->forces) {
-        auto side = [&](int from, int to) {
-            Vec3 delta = positions[to]-positions[from];
-            return force->periodic ? DPDPeriodicBox::minimumImage(delta, box) : delta;
-        };
-        for (std::size_t t = 0; t < force->particles.size(); t++) {
-            const std::array<int, 4>& p = force->particles[t];
-            double u, du, d2u;
-            if (force->coordinate == Force::Distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
-                Vec3 delta = side(p[1], p[0]);
-                double r = std::sqrt(delta.dot(delta));
-                if (r == 0.0)
-                    continue;
-                force->energy(static_cast<int>(t), r, u, du, d2u);
-                forces[p[0]] -= delta*(du/r);
-                forces[p[1]] += delta*(du/r);
-                continue;
-            }
-            // An angle: F_0 = -u' grad_0 theta = u' (e_b - cos e_a)/(|a| sin), likewise particle 2; F_1 balances them.
-            Vec3 a = side(p[1], p[0]), b = side(p[1], p[2]);
-            double la = std::sqrt(a.dot(a)), lb = std::sqrt(b.dot(b));
-            if (la == 0.0 || lb == 0.0)
-                continue;
-            Vec3 ea = a/la, eb = b/lb;
-            double c = std::max(-1.0, std::min(1.0, ea.dot(eb))), theta = std::acos(c), sine = std::sin(theta);
-            if (sine == 0.0) // exactly collinear: the direction of the force is undefined there (a set of measure zero)
-                continue;
-            force->energy(static_cast<int>(t), theta, u, du, d2u);
-            Vec3 first = (eb-ea*c)*(du/(la*sine)), third = (ea-eb*c)*(du/(lb*sine));
-            forces[p[0]] += first;
-            forces[p[2]] += third;
-            forces[p[1]] -= first+third;
+void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* box, std::vector<Vec3>& forcesOut) const {
+    forEachTerm(forces, positions, box, [&](const Force& force, int term, const Vec3* local) {
+        const std::array<int, 4>& p = force.particles[term];
+        double u, du, d2u;
+        if (force.coordinate == Force::Distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
+            double r = std::sqrt(local[0].dot(local[0]));
+            if (r == 0.0)
+                return;
+            force.energy(term, r, u, du, d2u);
+            forcesOut[p[0]] -= local[0]*(du/r);
+            forcesOut[p[1]] += local[0]*(du/r);
+            return;
         }
-    }
+        AngleGeometry angle(local[0], local[2]);
+        if (!angle.defined)
+            return;
+        force.energy(term, angle.theta, u, du, d2u);
+        Vec3 first = angle.forceOnFirst(du), third = angle.forceOnThird(du);
+        forcesOut[p[0]] += first;
+        forcesOut[p[2]] += third;
+        forcesOut[p[1]] -= first+third;
+    });
 }

@@ -82,6 +82,18 @@ public:
             force.getExclusionParticles(k, p1, p2);
             exclusions.insert(pairKey(p1, p2));
         }
+        // Per-particle parameters, then computed values (functions of them and of the globals): parsed once.
+        for (int k = 0; k < force.getNumPerParticleParameters(); k++)
+            valueNames.push_back(force.getPerParticleParameterName(k));
+        for (int k = 0; k < force.getNumComputedValues(); k++) {
+            std::string name, expression;
+            force.getComputedValueParameters(k, name, expression);
+            computed.push_back(Lepton::Parser::parse(expression).optimize());
+            valueNames.push_back(name);
+        }
+        for (const std::string& name : valueNames)
+            pairVariableNames.emplace_back(name+"1", name+"2");
+        stride = static_cast<int>(valueNames.size());
         for (int g = 0; g < force.getNumInteractionGroups(); g++) {
             std::set<int> set1, set2;
             force.getInteractionGroupParameters(g, set1, set2);
@@ -101,33 +113,19 @@ public:
             const std::string& name = force.getGlobalParameterName(k);
             variables[name] = context.getParameter(name);
         }
-        // Per-particle parameters, then computed values (functions of them and of the globals).
-        int numPerParticle = force.getNumPerParticleParameters(), numComputed = force.getNumComputedValues();
-        stride = numPerParticle+numComputed;
+        // Per-particle parameters, then the computed values of them and of the globals.
+        int numPerParticle = force.getNumPerParticleParameters(), numComputed = static_cast<int>(computed.size());
         particleValues.assign(static_cast<std::size_t>(numParticles)*stride, 0.0);
-        std::vector<Lepton::ParsedExpression> computed;
-        std::vector<std::string> names;
-        for (int k = 0; k < numPerParticle; k++)
-            names.push_back(force.getPerParticleParameterName(k));
-        for (int k = 0; k < numComputed; k++) {
-            std::string name, expression;
-            force.getComputedValueParameters(k, name, expression);
-            computed.push_back(Lepton::Parser::parse(expression).optimize());
-            names.push_back(name);
-        }
         std::vector<double> parameters;
         std::map<std::string, double> particleVariables = variables;
         for (int i = 0; i < numParticles; i++) {
             force.getParticleParameters(i, parameters);
             double* values = &particleValues[static_cast<std::size_t>(i)*stride];
             for (int k = 0; k < numPerParticle; k++)
-                particleVariables[names[k]] = values[k] = parameters[k];
+                particleVariables[valueNames[k]] = values[k] = parameters[k];
             for (int k = 0; k < numComputed; k++)
                 values[numPerParticle+k] = computed[k].evaluate(particleVariables);
         }
-        pairVariableNames.clear();
-        for (const std::string& name : names)
-            pairVariableNames.emplace_back(name+"1", name+"2");
     }
     void addTerms(int i, int j, double r, double& energy, double& first, double& second) const override {
         double rc = force.getCutoffDistance();
@@ -198,7 +196,9 @@ private:
     std::vector<std::pair<std::vector<char>, std::vector<char> > > groups; // membership of set 1 and set 2
     int stride = 0;
     std::vector<double> particleValues; // per particle: per-particle parameters, then computed values
-    std::vector<std::pair<std::string, std::string> > pairVariableNames;
+    std::vector<std::string> valueNames;                                 // per-particle parameters, then computed values
+    std::vector<std::pair<std::string, std::string> > pairVariableNames; // their name1, name2
+    std::vector<Lepton::ParsedExpression> computed;
     mutable std::map<std::string, double> variables;
 };
 

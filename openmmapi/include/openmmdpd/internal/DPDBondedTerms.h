@@ -47,7 +47,7 @@ public:
         double tensor[6] = {};    // sum_i q_i (x) F_i: xx, yy, zz, xy, xz, yz (symmetric for these terms)
     };
     /** Add every term's force -grad u to `forces` (each force must be one hasAnalyticForces accepts). */
-    void addForces(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, std::vector<OpenMM::Vec3>& forces) const;
+    void addForces(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, std::vector<OpenMM::Vec3>& forcesOut) const;
     /** The sums over every term at these positions, in this box. */
     Sums evaluate(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box) const;
 
