@@ -12,7 +12,7 @@
 #include "CpuDPDSuccessiveSweep.h"
 #include "CpuDPDThreadBarrier.h"
 #include "CpuDPDThreadTeam.h"
-#include "DPDPairEngine.h"
+#include "DPDForceKeepingPairEngine.h"
 #include <functional>
 #include <memory>
 #include <vector>
@@ -39,7 +39,7 @@ namespace OpenMMDPD {
  * small against the search), and a stencil neighbour wrapped in y is seen through a shift that includes
  * b, hence the sliding offset; the pair's minimum-image y separation r e_y then carries its image.
  */
-class CpuDPDPairEngine : public DPDPairEngine {
+class CpuDPDPairEngine : public DPDForceKeepingPairEngine {
 public:
     /** An engine working on numThreads threads (the CPU platform's Threads property). */
     explicit CpuDPDPairEngine(int numThreads);
@@ -51,9 +51,9 @@ public:
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
-    bool canKeepForces() const override { return true; }
     void keepForcesSorted(bool keep) override { forcesStaySorted = keep; }
     void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) override;
+    bool sweepBetweenKeptForceKicks(bool bbk, const DPDPairSweep& sweep, double kickDt, std::vector<OpenMM::Vec3>& velocities) override;
     bool kickWithKeptForces(const DPDKeptForceKick& kick, const DPDPairSweep* dissipativeAndRandom, std::vector<OpenMM::Vec3>& velocities) override;
     /** On the engine's threads when every thread gets enough particles to pay for the hand-over; else at once. */
     void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) override;
@@ -126,10 +126,12 @@ private:
                         const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply);
     /**
      * The successive velocity sweep of O (exact OU) and S1 (BBK): Delta p = slope u + offset per pair.
-     * With `response` (Norton), also returns G . Delta p^D summed cell by cell in sweep order.
+     * With `response` (Norton), also returns G . Delta p^D summed cell by cell in sweep order.  With
+     * kickDt != 0, B(kickDt) with the kept forces in the gather and again in the scatter, clearing
+     * *velocitiesFinite if a velocity is then not finite (sweepBetweenKeptForceKicks).
      */
     double sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, std::vector<OpenMM::Vec3>& velocities,
-                           const std::vector<OpenMM::Vec3>* response);
+                           const std::vector<OpenMM::Vec3>* response, double kickDt = 0.0, bool* velocitiesFinite = nullptr);
     /**
      * VV's sweep: F^D + F^R at these velocities into sortedResult (sorted order, from zero), then
      * scatter(thread) for each thread's located particles.

@@ -1,7 +1,7 @@
 #include "CpuDPDKernelFactory.h"
 #include "CpuDPDPairEngine.h"
-#include "ReferenceCalcDPDForceKernel.h"
-#include "ReferenceIntegrateDPDStepKernel.h"
+#include "DPDHostCalcForceKernel.h"
+#include "DPDHostIntegrateStepKernel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/cpu/CpuPlatform.h"
 #include "openmm/internal/windowsExport.h"
@@ -40,8 +40,8 @@ OpenMM::KernelImpl* CpuDPDKernelFactory::createKernelImpl(std::string name, cons
     }
     DPDPairEngineFactory makeEngine = [numThreads] { return std::make_unique<CpuDPDPairEngine>(numThreads); };
     if (name == CalcDPDForceKernel::Name())
-        return new ReferenceCalcDPDForceKernel(name, platform, makeEngine());
+        return new DPDHostCalcForceKernel(name, platform, makeEngine());
     if (name == IntegrateDPDStepKernel::Name())
-        return new ReferenceIntegrateDPDStepKernel(name, platform, makeEngine);
+        return new DPDHostIntegrateStepKernel(name, platform, makeEngine);
     throw OpenMM::OpenMMException("CpuDPDKernelFactory: no kernel named '"+name+"'");
 }

@@ -374,7 +374,7 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
 }
 
 double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, std::vector<Vec3>& velocities,
-                                         const std::vector<Vec3>* response) {
+                                         const std::vector<Vec3>* response, double kickDt, bool* velocitiesFinite) {
     const std::vector<int>& original = grid.sortedToOriginal;
     int numParticles = static_cast<int>(original.size());
     sortedVelocities.resize(original.size());
@@ -382,8 +382,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     hugePages.advise(CpuDPDHugePages::Velocities, velocities);
     if (response != nullptr)
         sortedResponse.resize(original.size());
-    // ABOBA's first kick in the gather, its second in the scatter (DPDPairSweep::flankingKick), with the forces of this engine's search.
-    const double kickDt = sweep.flankingKick;
+    // ABOBA's first kick in the gather, its second in the scatter (sweepBetweenKeptForceKicks), with the forces of this engine's search.
     auto kickDtOverMass = [&](int particle) { return kickDt*sweep.inverseMasses[sweep.uniformInverseMass ? 0 : particle]; };
     std::vector<char> finite(kickDt != 0.0 ? numThreads : 0, 1);
     auto gather = [&](int begin, int end) {
@@ -476,9 +475,9 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
         finite[thread] &= allFinite;
     };
     sweepByColor(sweep, kind, gather, apply, scatter);
-    if (sweep.velocitiesFinite != nullptr)
+    if (velocitiesFinite != nullptr)
         for (char each : finite)
-            *sweep.velocitiesFinite &= each != 0;
+            *velocitiesFinite &= each != 0;
     cellStress.addToSweep(sweep, grid.cellsInSweepOrder);
     double responseOfDissipation = 0.0;
     if (response != nullptr)
@@ -494,6 +493,12 @@ double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& swee
 
 void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<Vec3>& velocities) {
     sweepVelocities(sweep, CpuDPDPairUpdateBlock::BBK, velocities, nullptr);
+}
+
+bool CpuDPDPairEngine::sweepBetweenKeptForceKicks(bool bbk, const DPDPairSweep& sweep, double kickDt, std::vector<Vec3>& velocities) {
+    bool finite = true;
+    sweepVelocities(sweep, bbk ? CpuDPDPairUpdateBlock::BBK : CpuDPDPairUpdateBlock::OrnsteinUhlenbeck, velocities, nullptr, kickDt, &finite);
+    return finite;
 }
 
 void CpuDPDPairEngine::sweepDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,

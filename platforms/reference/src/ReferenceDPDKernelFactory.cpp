@@ -1,7 +1,7 @@
 #include "ReferenceDPDKernelFactory.h"
-#include "ReferenceCalcDPDForceKernel.h"
+#include "DPDHostCalcForceKernel.h"
 #include "ReferenceDPDPairEngine.h"
-#include "ReferenceIntegrateDPDStepKernel.h"
+#include "DPDHostIntegrateStepKernel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/windowsExport.h"
 
@@ -25,8 +25,8 @@ OpenMM::KernelImpl* ReferenceDPDKernelFactory::createKernelImpl(std::string name
                                                                 OpenMM::ContextImpl& context) const {
     DPDPairEngineFactory makeEngine = [] { return std::make_unique<ReferenceDPDPairEngine>(); };
     if (name == CalcDPDForceKernel::Name())
-        return new ReferenceCalcDPDForceKernel(name, platform, makeEngine());
+        return new DPDHostCalcForceKernel(name, platform, makeEngine());
     if (name == IntegrateDPDStepKernel::Name())
-        return new ReferenceIntegrateDPDStepKernel(name, platform, makeEngine);
+        return new DPDHostIntegrateStepKernel(name, platform, makeEngine);
     throw OpenMM::OpenMMException("ReferenceDPDKernelFactory: no kernel named '"+name+"'");
 }

@@ -58,29 +58,12 @@ struct DPDPairSweep {
     std::uint64_t randomKey;
     double shearRate = 0.0;
     DPDPairStressSums* stress = nullptr;
-    /**
-     * ABOBA's kicks B(h/2) on either side of its O sweep (eqs. 2.20, 2.23), in the sweep's own passes:
-     * v += F flankingKick/m before and after, F being the conservative forces of the engine's latest
-     * search, which then need not reach the Context (keepForcesSorted).  0: no kicks.  With kicks, the
-     * sweep clears *velocitiesFinite if a velocity is not finite after them.
-     */
-    double flankingKick = 0.0;
-    bool* velocitiesFinite = nullptr;
-};
-
-/** The closing kick B(dt) of VV and S1 with an engine's kept forces (DPDPairEngine::kickWithKeptForces). */
-struct DPDKeptForceKick {
-    double dt;
-    const std::vector<double>& inverseMasses;
-    bool uniformInverseMass;                           // every entry of inverseMasses is the same
-    int kicks = 1;                                     // 2: also the next step's opening kick (VV, eq. 2.3a)
-    std::vector<OpenMM::Vec3>* storedForces = nullptr; // where F is kept for the next step's first kick, if anywhere
 };
 
 /**
- * What a platform contributes to the DPD kernels: how the pairs closer than a radius are found and
- * how they are swept.  The schemes (DPDSplittingDynamics) and the pair formulas (DPDPairFormulas.h)
- * are written once; an engine owns the pairs of its latest search, so the force evaluation and the O
+ * What a host platform (Reference, CPU) contributes to the DPD kernels: how the pairs closer than a
+ * radius are found and how they are swept.  The schemes (DPDSplittingDynamics, on the host platforms
+ * through DPDHostStepBackend) and the pair formulas (DPDPairFormulas.h) are written once; an engine owns the pairs of its latest search, so the force evaluation and the O
  * sweep at the same positions share one list (Shang 2021: one force evaluation per ABOBA step).
  *
  * Every sweep visits each pair (i, j) closer than its type pair's dissipative cutoff once, with the
@@ -126,27 +109,6 @@ public:
      * default runs body(0, count).
      */
     virtual void forEachParticleRange(int count, const std::function<void(int begin, int end)>& body) { body(0, count); }
-    /**
-     * Engines that can keep the conservative forces of their own search and apply them in their own
-     * passes: ABOBA's kicks in the O sweep (DPDPairSweep::flankingKick), VV's and S1's closing kick in
-     * the pass that brings the forces to System order (kickWithKeptForces).  keepForcesSorted(true):
-     * the next searches keep the conservative forces in the engine instead of adding them to the given
-     * forces; addKeptForcesTo adds the latest search's kept forces there after all (when the step does
-     * not use this engine's pairs after all).
-     */
-    virtual bool canKeepForces() const { return false; }
-    virtual void keepForcesSorted(bool keep) {}
-    virtual void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) {}
-    /**
-     * The closing kick B(dt) of VV and S1 (eqs. 2.3c, 2.13c) with the forces this engine kept
-     * (keepForcesSorted): F = the kept conservative forces plus, with `dissipativeAndRandom` (VV's
-     * sweep), F^D + F^R at these velocities (eqs. 2.2b, 2.2c); then v += F dt/m kick.kicks times, and F
-     * is stored in kick.storedForces, if given.  Returns whether every velocity is finite after the
-     * first kick.  Defined as these steps one after the other; an engine that keeps forces does them
-     * in fewer passes with the same bits.
-     */
-    virtual bool kickWithKeptForces(const DPDKeptForceKick& kick, const DPDPairSweep* dissipativeAndRandom,
-                                    std::vector<OpenMM::Vec3>& velocities);
     /** One particle's B step, v += F dtOverMass (dtOverMass = dt/m, 0 for a massless particle); returns whether v is then finite. */
     static bool kickVelocity(OpenMM::Vec3& velocity, const OpenMM::Vec3& force, double dtOverMass) {
         velocity += force*dtOverMass;

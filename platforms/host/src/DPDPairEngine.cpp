@@ -22,15 +22,3 @@ bool DPDPairEngine::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>&
     });
     return allFinite.load();
 }
-
-bool DPDPairEngine::kickWithKeptForces(const DPDKeptForceKick& keptForceKick, const DPDPairSweep* dissipativeAndRandom,
-                                       std::vector<Vec3>& velocities) {
-    std::vector<Vec3> forces(velocities.size());
-    addKeptForcesTo(forces);
-    if (dissipativeAndRandom != nullptr)
-        addDissipativeAndRandomForces(*dissipativeAndRandom, velocities, forces);
-    bool finite = kick(velocities, forces, keptForceKick.inverseMasses, keptForceKick.dt, keptForceKick.storedForces);
-    for (int k = 1; k < keptForceKick.kicks; k++)
-        kick(velocities, forces, keptForceKick.inverseMasses, keptForceKick.dt);
-    return finite;
-}

@@ -1,4 +1,4 @@
-#include "ReferenceCalcDPDForceKernel.h"
+#include "DPDHostCalcForceKernel.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/reference/ReferencePlatform.h"
@@ -6,18 +6,18 @@
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
 
-void ReferenceCalcDPDForceKernel::initialize(const OpenMM::System& system, const DPDForce& force) {
+void DPDHostCalcForceKernel::initialize(const OpenMM::System& system, const DPDForce& force) {
     parameters = force.getTable().compile(system.getNumParticles());
 }
 
-void ReferenceCalcDPDForceKernel::copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) {
+void DPDHostCalcForceKernel::copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) {
     DPDTypePairTable::Compiled updated = force.getTable().compile(context.getSystem().getNumParticles());
     if (updated.numTypes != parameters.numTypes)
         throw OpenMM::OpenMMException("DPDForce: updateParametersInContext cannot change the set of particle types");
     parameters = std::move(updated);
 }
 
-double ReferenceCalcDPDForceKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
+double DPDHostCalcForceKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
     auto* data = reinterpret_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
     const Vec3* box = data->periodicBoxVectors;
     DPDPeriodicBox::checkCutoff("DPDForce", parameters.maxCutoff, box);

@@ -1,6 +1,7 @@
-#ifndef OPENMMDPD_REFERENCEINTEGRATEDPDSTEPKERNEL_H_
-#define OPENMMDPD_REFERENCEINTEGRATEDPDSTEPKERNEL_H_
+#ifndef OPENMMDPD_DPDHOSTINTEGRATESTEPKERNEL_H_
+#define OPENMMDPD_DPDHOSTINTEGRATESTEPKERNEL_H_
 
+#include "DPDHostStepBackend.h"
 #include "DPDPairEngine.h"
 #include "DPDSplittingDynamics.h"
 #include "openmmdpd/IntegrateDPDStepKernel.h"
@@ -8,21 +9,28 @@
 
 namespace OpenMMDPD {
 
-/** DPDIntegrator steps on the Reference and CPU platforms (the platform supplies the pair engines). */
-class ReferenceIntegrateDPDStepKernel : public IntegrateDPDStepKernel {
+/**
+ * DPDIntegrator steps on the host platforms, Reference and CPU: the schemes (DPDSplittingDynamics) on
+ * the host backend (DPDHostStepBackend), with the platform's pair engines.
+ */
+class DPDHostIntegrateStepKernel : public IntegrateDPDStepKernel {
 public:
-    ReferenceIntegrateDPDStepKernel(const std::string& name, const OpenMM::Platform& platform, DPDPairEngineFactory makeEngine)
+    DPDHostIntegrateStepKernel(const std::string& name, const OpenMM::Platform& platform, DPDPairEngineFactory makeEngine)
         : IntegrateDPDStepKernel(name, platform), makeEngine(std::move(makeEngine)) {}
     void initialize(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) override {
-        dynamics = std::make_unique<DPDSplittingDynamics>(context, integrator, makeEngine);
+        dynamics = std::make_unique<DPDSplittingDynamics>(integrator, [&](DPDSchemeState& state) {
+            auto backend = std::make_unique<DPDHostStepBackend>(context, integrator, state, makeEngine);
+            hostBackend = backend.get();
+            return backend;
+        });
     }
     void execute(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, bool moreStepsFollow) override {
-        dynamics->step(context, integrator, moreStepsFollow);
+        dynamics->step(integrator, moreStepsFollow);
     }
     double computeKineticEnergy(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) override {
-        return dynamics->computeKineticEnergy(context);
+        return hostBackend->computeKineticEnergy();
     }
-    void stateChanged(OpenMM::State::DataType changed) override { dynamics->stateChanged(changed); }
+    void stateChanged(OpenMM::State::DataType changed) override { hostBackend->stateChanged(changed); }
     void createCheckpoint(std::ostream& stream) const override { dynamics->createCheckpoint(stream); }
     void loadCheckpoint(std::istream& stream) override { dynamics->loadCheckpoint(stream); }
     DPDIntegrator::TransportStatistics getTransportStatistics() const override { return dynamics->getTransportStatistics(); }
@@ -34,6 +42,7 @@ public:
 private:
     DPDPairEngineFactory makeEngine;
     std::unique_ptr<DPDSplittingDynamics> dynamics;
+    DPDHostStepBackend* hostBackend = nullptr; // owned by dynamics
 };
 
 } // namespace OpenMMDPD

@@ -1,5 +1,5 @@
-#ifndef OPENMMDPD_REFERENCECALCDPDFORCEKERNEL_H_
-#define OPENMMDPD_REFERENCECALCDPDFORCEKERNEL_H_
+#ifndef OPENMMDPD_DPDHOSTCALCFORCEKERNEL_H_
+#define OPENMMDPD_DPDHOSTCALCFORCEKERNEL_H_
 
 #include "DPDPairEngine.h"
 #include "openmmdpd/CalcDPDForceKernel.h"
@@ -15,9 +15,9 @@ namespace OpenMMDPD {
  * costs more in candidates than it saves in builds) and adds their forces in the same pass.  The
  * engine keeps the pairs of the latest evaluation for a DPDIntegrator sweeping at the same positions.
  */
-class ReferenceCalcDPDForceKernel : public CalcDPDForceKernel {
+class DPDHostCalcForceKernel : public CalcDPDForceKernel {
 public:
-    ReferenceCalcDPDForceKernel(const std::string& name, const OpenMM::Platform& platform, std::unique_ptr<DPDPairEngine> engine)
+    DPDHostCalcForceKernel(const std::string& name, const OpenMM::Platform& platform, std::unique_ptr<DPDPairEngine> engine)
         : CalcDPDForceKernel(name, platform), engine(std::move(engine)) {}
     void initialize(const OpenMM::System& system, const DPDForce& force) override;
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;

@@ -1,0 +1,449 @@
+#include "DPDHostStepBackend.h"
+#include "DPDFrictionTable.h"
+#include "DPDHostCalcForceKernel.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/NonbondedForce.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/reference/ReferencePlatform.h"
+#include "openmm/reference/SimTKOpenMMRealType.h"
+#include "openmmdpd/DPDForce.h"
+#include "openmmdpd/internal/DPDForceImpl.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <type_traits>
+#include <utility>
+
+using namespace OpenMMDPD;
+using OpenMM::Vec3;
+
+struct DPDHostStepBackend::ContextArrays {
+    std::vector<Vec3>& positions;
+    std::vector<Vec3>& velocities;
+    std::vector<Vec3>& forces;
+    const Vec3* box;
+    OpenMM::ReferencePlatform::PlatformData& data;
+};
+
+DPDHostStepBackend::ContextArrays DPDHostStepBackend::arrays() const {
+    auto* data = reinterpret_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    return {*data->positions, *data->velocities, *data->forces, data->periodicBoxVectors, *data};
+}
+
+DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, DPDSchemeState& state,
+                                       DPDPairEngineFactory makeEngine)
+    : context(context), state(state), kT(BOLTZ*integrator.getTemperature()), integrationGroups(integrator.getIntegrationForceGroups()) {
+    const OpenMM::System& system = context.getSystem();
+    friction = DPDFrictionTable::compile(system, integrator.getTable());
+    frictionRevision = integrator.getTable().getRevision();
+    for (int i = 0; i < system.getNumParticles(); i++)
+        if (system.isVirtualSite(i))
+            virtualSites.push_back(i);
+    masses.resize(system.getNumParticles());
+    inverseMasses.resize(system.getNumParticles());
+    for (int i = 0; i < system.getNumParticles(); i++) {
+        masses[i] = system.getParticleMass(i);
+        inverseMasses[i] = masses[i] == 0.0 ? 0.0 : 1.0/masses[i];
+    }
+    uniformInverseMass = std::all_of(inverseMasses.begin(), inverseMasses.end(), [&](double m) { return m == inverseMasses[0]; });
+    ownEngine = makeEngine(); // also runs the per-particle loops (kick, drift) on the platform's threads
+    Vec3 box[3];
+    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
+    largestCutoff = friction.maxCutoff;
+    for (int k = 0; k < system.getNumForces(); k++) {
+        const OpenMM::Force& force = system.getForce(k);
+        if (auto* dpd = dynamic_cast<const DPDForce*>(&force))
+            largestCutoff = std::max(largestCutoff, dpd->getTable().compile(system.getNumParticles()).maxCutoff);
+        else if (auto* custom = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force))
+            largestCutoff = std::max(largestCutoff, custom->getCutoffDistance());
+        else if (auto* nonbonded = dynamic_cast<const OpenMM::NonbondedForce*>(&force))
+            largestCutoff = std::max(largestCutoff, nonbonded->getCutoffDistance());
+    }
+    if (integrator.getShearRate() != 0.0)
+        DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
+
+    // A DPD fluid's forces come from DPDForces, a polymer's also from harmonic bonds and angles: a step
+    // evaluates them directly (bonds and angles with DPDBondedTerms), skipping the platform's begin and
+    // end of an evaluation (CPU, N = 3 000: 0.27 ms, 2 700 bonds 0.02 ms).  Virtual sites need that end
+    // (it spreads their forces), so they keep the usual evaluation.
+    forcesFromDPDForcesAlone = virtualSites.empty();
+    for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
+        if ((integrationGroups & (1 << impl->getOwner().getForceGroup())) == 0)
+            continue;
+        forcesFromDPDForcesAlone &= dynamic_cast<DPDForceImpl*>(impl) != nullptr || DPDBondedTerms::hasAnalyticForces(impl->getOwner());
+        integratedForceImpls.push_back(impl);
+    }
+
+    // Share the DPDForce's pair list when its search radius covers every dissipative cutoff and it is
+    // evaluated with the integration force groups (checked again at every evaluation).
+    for (OpenMM::ForceImpl* impl : integratedForceImpls) {
+        auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
+        if (forceImpl == nullptr)
+            continue;
+        auto* kernel = dynamic_cast<DPDHostCalcForceKernel*>(&forceImpl->getKernel().getImpl());
+        if (kernel != nullptr && forceImpl->getOwner().getTable().compile(system.getNumParticles()).maxCutoff >= friction.maxCutoff) {
+            sharedForceKernel = kernel;
+            sharedForceImpl = forceImpl;
+            break;
+        }
+    }
+    // The one integrated DPDForce's engine may keep its forces and kick with them in its own passes.
+    if (sharedForceKernel != nullptr && forcesFromDPDForcesAlone && integratedForceImpls.size() == 1)
+        forceKeepingEngine = dynamic_cast<DPDForceKeepingPairEngine*>(&sharedForceKernel->getPairEngine());
+}
+
+void DPDHostStepBackend::beginStep(const DPDIntegrator& integrator) {
+    kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
+    if (integrator.getTable().getRevision() != frictionRevision)
+        applyFrictionTableChanges(integrator);
+    bool stateSetFromOutside = externalStateUnchecked;
+    if (externalStateUnchecked) {
+        // The drift catches what a step produces; what the user set is checked once, here, so that a
+        // NaN position cannot hide from the pair search (which drops NaN pairs) and run on silently.
+        checkExternalState();
+        externalStateUnchecked = false;
+    }
+    ContextArrays current = arrays();
+    maxDisplacementPerDrift = 0.5*std::min(current.box[0][0], std::min(current.box[1][1], current.box[2][2]));
+    for (int k = 0; k < 3; k++)
+        if (current.box[k] != boxOfStoredForces[k])
+            state.storedForcesValid = false;
+    state.keepStoredForcesThroughStateChanges = false;
+    forcedIntegrator = &integrator;
+    leesEdwards.setShearRate(integrator.getShearRate());
+    if (leesEdwards.isSheared()) {
+        DPDLeesEdwardsFlow::checkBox(context.getSystem(), current.box, largestCutoff, leesEdwards.getShearRate());
+        if (!leesEdwards.isBoundToContext())
+            leesEdwards.bindToContext(context);
+        // Positions set by the user may lie any number of box heights away: the sheared drift moves a
+        // particle with the streaming velocity of where it is, so it starts from its image in the box.
+        if (stateSetFromOutside)
+            leesEdwards.wrapIntoPrimaryCell(current.positions, current.box);
+        leesEdwards.beginStep(current.box);
+    }
+    accumulateStress = integrator.getStressAccumulation();
+    stepPairStress = DPDPairStressSums();
+    if (accumulateStress) // the shared DPDForce's conservative part from its own force pass (DPDStressAccumulator::beginSample)
+        stress.beginSample(context, integrationGroups, sharedForceKernel != nullptr ? &sharedForceKernel->getPairEngine() : nullptr,
+                           sharedForceImpl, sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0);
+}
+
+void DPDHostStepBackend::endStep(double stepSize, double stressScale) {
+    ContextArrays current = arrays();
+    if (accumulateStress)
+        stress.endSample(current.positions, current.velocities, masses, current.box, stepPairStress, stressScale,
+                         sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0);
+    current.data.time += stepSize;
+    current.data.stepCount++;
+}
+
+void DPDHostStepBackend::abandonStep() {
+    stress.abandonSample();
+    if (forcesKept) // the forces are the Context's again
+        latestForces();
+}
+
+DPDFusionSupport DPDHostStepBackend::fusionSupport() const {
+    DPDFusionSupport support;
+    support.kickBeforeDrift = !leesEdwards.isSheared(); // the sheared drift is a pass of its own
+    support.repeatedDrift = !leesEdwards.isSheared();
+    // Only in the direct evaluation (the first goes through the Context), and only when the O sweep is this engine's.
+    support.keepForcesForKicks = forceKeepingEngine != nullptr && !friction.allValuesZero && forcesFromDPDForcesAlone && contextEvaluatedForces;
+    support.forcesKept = forcesKept;
+    support.stepsMayShareWork = forceKeepingEngine != nullptr && context.getSystem().getNumForces() == 1 && !leesEdwards.isSheared() &&
+                                !accumulateStress;
+    return support;
+}
+
+std::vector<Vec3>& DPDHostStepBackend::latestForces() {
+    if (forcesKept) { // an operation that needs them in System order after all
+        std::vector<Vec3>& forces = arrays().forces;
+        std::fill(forces.begin(), forces.end(), Vec3());
+        forceKeepingEngine->addKeptForcesTo(forces);
+        forcesKept = false;
+        latestForcesStored = false;
+    }
+    return latestForcesStored ? storedForces : arrays().forces;
+}
+
+bool DPDHostStepBackend::useForcesOfPreviousStep(bool withPairs) {
+    if (!state.storedForcesValid || (withPairs && pairsAtCurrentPositions == nullptr))
+        return false;
+    latestForcesStored = true;
+    return true;
+}
+
+void DPDHostStepBackend::storeForces() {
+    const std::vector<Vec3>& forces = latestForces();
+    storedForces.resize(forces.size());
+    ownEngine->forEachParticleRange(static_cast<int>(forces.size()), [&](int begin, int end) {
+        std::copy(forces.begin()+begin, forces.begin()+end, storedForces.begin()+begin);
+    });
+    state.storedForcesValid = true;
+    std::copy(arrays().box, arrays().box+3, boxOfStoredForces);
+    latestForcesStored = true;
+}
+
+int DPDHostStepBackend::drift(double dt, int times, double kickDt, bool* velocitiesFinite) {
+    ContextArrays current = arrays();
+    std::vector<Vec3>& positions = current.positions;
+    std::vector<Vec3>& velocities = current.velocities;
+    const std::vector<Vec3>* kickForces = kickDt != 0.0 ? &latestForces() : nullptr;
+    if (kickForces != nullptr && leesEdwards.isSheared()) { // the sheared drift is a pass of its own
+        if (!ownEngine->kick(velocities, *kickForces, inverseMasses, kickDt) && velocitiesFinite != nullptr)
+            *velocitiesFinite = false;
+        kickForces = nullptr;
+    }
+    if (leesEdwards.isSheared()) {
+        int unsound = -1;
+        for (int k = 0; k < times && unsound < 0; k++)
+            unsound = leesEdwards.drift(positions, velocities, inverseMasses, dt, maxDisplacementPerDrift);
+        if (!virtualSites.empty())
+            context.computeVirtualSites();
+        return unsound;
+    }
+    std::atomic<bool> kickFinite{true};
+    // A finite but runaway state is caught too: no particle of a sound simulation moves half the
+    // box in one step, and past that the minimum image and the pair lists lose their meaning.
+    double limit2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
+    std::atomic<int> unsound{-1}; // the first unsound particle, whatever the split among threads
+    ownEngine->forEachParticleRange(static_cast<int>(positions.size()), [&](int begin, int end) {
+        // Both tests are false for NaN; the second also catches a finite step to an infinite position.
+        // No branch in the loop (a massless particle takes a zero step); the rare unsound range is
+        // scanned again for its first culprit.
+        auto displacementOf = [&](int i) { return inverseMasses[i] == 0.0 ? Vec3() : velocities[i]*dt; };
+        auto isSound = [&](const Vec3& displacement, const Vec3& position) {
+            return (displacement.dot(displacement) <= limit2) & (position.dot(position) <= std::numeric_limits<double>::max());
+        };
+        bool allSound = true, allFinite = true;
+        auto pass = [&](auto withKick) { // one loop, compiled with and without the kick
+            for (int i = begin; i < end; i++) {
+                if constexpr (decltype(withKick)::value)
+                    allFinite &= DPDPairEngine::kickVelocity(velocities[i], (*kickForces)[i], kickDt*inverseMasses[i]);
+                Vec3 displacement = displacementOf(i);
+                for (int k = 0; k < times; k++)
+                    positions[i] += displacement;
+                allSound &= isSound(displacement, positions[i]);
+            }
+        };
+        if (kickForces != nullptr)
+            pass(std::true_type());
+        else
+            pass(std::false_type());
+        if (!allFinite)
+            kickFinite.store(false);
+        int firstOfRange = -1;
+        for (int i = begin; i < end && !allSound && firstOfRange < 0; i++)
+            if (!isSound(displacementOf(i), positions[i]))
+                firstOfRange = i;
+        int first = unsound.load();
+        while (firstOfRange >= 0 && (first < 0 || firstOfRange < first) && !unsound.compare_exchange_weak(first, firstOfRange)) {
+        }
+    });
+    if (!virtualSites.empty())
+        context.computeVirtualSites(); // as OpenMM's integrators do after every position update
+    if (velocitiesFinite != nullptr && !kickFinite.load())
+        *velocitiesFinite = false;
+    return unsound.load();
+}
+
+void DPDHostStepBackend::checkExternalState() const {
+    ContextArrays current = arrays();
+    for (std::size_t i = 0; i < current.positions.size(); i++) {
+        const char* what = nullptr;
+        auto finite = [](const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); };
+        if (!finite(current.positions[i]))
+            what = "position";
+        else if (!finite(current.velocities[i]))
+            what = "velocity";
+        if (what == nullptr)
+            continue;
+        const Vec3& bad = what[0] == 'p' ? current.positions[i] : current.velocities[i];
+        std::stringstream message;
+        message << "DPDIntegrator: particle " << i << " has a non-finite " << what << " (" << bad[0] << ", " << bad[1] << ", "
+                << bad[2] << ") before step " << context.getStepCount()+1 << "; every position and velocity set in the Context "
+                << "must be finite";
+        throw OpenMM::OpenMMException(message.str());
+    }
+}
+
+void DPDHostStepBackend::applyFrictionTableChanges(const DPDIntegrator& integrator) {
+    // setDefaultFriction, setDefaultCutoff, setParticleType, addTypePair ... on a bound integrator take
+    // effect here, at the next step, as LangevinMiddleIntegrator.setFriction does; compile() and the
+    // box check validate them now, so a value is never accepted and then silently left unused.
+    DPDTypePairTable::Compiled updated = DPDFrictionTable::compile(context.getSystem(), integrator.getTable());
+    DPDPeriodicBox::checkCutoff("DPDIntegrator", updated.maxCutoff, arrays().box);
+    friction = std::move(updated);
+    frictionRevision = integrator.getTable().getRevision();
+    state.storedForcesValid = false;      // VV's stored dissipative force used the old friction
+    pairsAtCurrentPositions = nullptr;    // S1's stored pairs may not reach a larger cutoff
+}
+
+void DPDHostStepBackend::evaluateForces(bool keepForces) {
+    long long evaluationsBefore = sharedForceKernel ? sharedForceKernel->getEvaluationCount() : 0;
+    keepForces &= fusionSupport().keepForcesForKicks; // only in the direct evaluation (the first goes through the Context)
+    state.storedForcesValid = false; // they belong to other positions now
+    latestForcesStored = false;
+    forcesKept = false;
+    if (forcesFromDPDForcesAlone && contextEvaluatedForces) {
+        // What the Context's evaluation does for these forces: clear, then each adds its own.  The
+        // first evaluation goes through the Context, which checks that positions have been set.
+        std::vector<Vec3>& forces = arrays().forces;
+        if (!keepForces)
+            ownEngine->forEachParticleRange(static_cast<int>(forces.size()), [&](int begin, int end) {
+                std::fill(forces.begin()+begin, forces.begin()+end, Vec3());
+            });
+        // Only for this evaluation, even if it throws: any other (a State's forces) must reach the Context.
+        std::unique_ptr<DPDForceKeepingPairEngine, void (*)(DPDForceKeepingPairEngine*)> keeping( // a scope guard
+            keepForces ? forceKeepingEngine : nullptr, [](DPDForceKeepingPairEngine* engine) { engine->keepForcesSorted(false); });
+        if (keepForces)
+            forceKeepingEngine->keepForcesSorted(true);
+        for (OpenMM::ForceImpl* impl : integratedForceImpls)
+            if (dynamic_cast<DPDForceImpl*>(impl) != nullptr)
+                impl->calcForcesAndEnergy(context, true, false, integrationGroups);
+        if (std::exchange(directBondedStale, false)) // the first time, or updateParametersInContext since
+            directBondedForces = std::make_unique<DPDBondedTerms>(context, integrationGroups, DPDBondedTerms::hasAnalyticForces);
+        directBondedForces->addForces(arrays().positions, arrays().box, forces);
+    }
+    else {
+        context.calcForcesAndEnergy(true, false, integrationGroups);
+        contextEvaluatedForces = true;
+        keepForces = false;
+    }
+    if (friction.allValuesZero)
+        pairsAtCurrentPositions = ownEngine.get(); // no O sweep at zero friction, so no pair search either
+    else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore &&
+             sharedForceKernel->getPairEngine().getRadius() >= friction.maxCutoff) // its cutoff may have changed since
+        pairsAtCurrentPositions = &sharedForceKernel->getPairEngine();
+    else {
+        ContextArrays current = arrays();
+        DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, current.box);
+        ownEngine->findPairs(current.positions, current.box, friction.maxCutoff, nullptr, nullptr);
+        pairsAtCurrentPositions = ownEngine.get();
+    }
+    forcesKept = keepForces;
+    if (keepForces && pairsAtCurrentPositions != forceKeepingEngine)
+        latestForces(); // the O sweep is another engine's: the forces go to the Context
+}
+
+bool DPDHostStepBackend::kick(double dt, bool keepForces) {
+    const std::vector<Vec3>& forces = latestForces();
+    bool finite = ownEngine->kick(arrays().velocities, forces, inverseMasses, dt, keepForces ? &storedForces : nullptr);
+    if (keepForces) {
+        state.storedForcesValid = true;
+        std::copy(arrays().box, arrays().box+3, boxOfStoredForces);
+    }
+    return finite;
+}
+
+double DPDHostStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep, bool response) {
+    return pairsAtCurrentPositions->applyPairwiseOrnsteinUhlenbeck(pairSweep(sweep), arrays().velocities,
+                                                                   response ? &forcing.getResponseField() : nullptr);
+}
+
+void DPDHostStepBackend::sweepBBK(const DPDSweepRequest& sweep) {
+    pairsAtCurrentPositions->applyPairwiseBBK(pairSweep(sweep), arrays().velocities);
+}
+
+void DPDHostStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& sweep) {
+    pairsAtCurrentPositions->addDissipativeAndRandomForces(pairSweep(sweep), arrays().velocities, latestForces());
+}
+
+bool DPDHostStepBackend::sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& sweep, double kickDt) {
+    bool bbk = kind == DPDStepOperation::BBKSweep;
+    if (forcesKept && pairsAtCurrentPositions == forceKeepingEngine)
+        return forceKeepingEngine->sweepBetweenKeptForceKicks(bbk, pairSweep(sweep), kickDt, arrays().velocities);
+    bool finite = kick(kickDt, false); // the same operations one after the other
+    if (bbk)
+        sweepBBK(sweep);
+    else
+        sweepOrnsteinUhlenbeck(sweep, false);
+    return kick(kickDt, false) && finite;
+}
+
+bool DPDHostStepBackend::kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) {
+    DPDPairSweep sweep = pairSweep(dissipativeAndRandom != nullptr ? *dissipativeAndRandom : DPDSweepRequest{dt, 0, false});
+    std::vector<Vec3>& velocities = arrays().velocities;
+    bool finite;
+    if (forcesKept && pairsAtCurrentPositions == forceKeepingEngine) {
+        DPDKeptForceKick closingKick{dt, inverseMasses, uniformInverseMass, kicks, keepForces ? &storedForces : nullptr};
+        finite = forceKeepingEngine->kickWithKeptForces(closingKick, dissipativeAndRandom != nullptr ? &sweep : nullptr, velocities);
+        forcesKept = false; // given to the kick (and, if kept, to the stored copy)
+        latestForcesStored = keepForces;
+    }
+    else { // the same operations one after the other
+        if (dissipativeAndRandom != nullptr)
+            addDissipativeAndRandomForces(*dissipativeAndRandom);
+        finite = kick(dt, keepForces);
+        for (int k = 1; k < kicks; k++)
+            kick(dt, false);
+    }
+    if (keepForces) {
+        state.storedForcesValid = true;
+        std::copy(arrays().box, arrays().box+3, boxOfStoredForces);
+    }
+    return finite;
+}
+
+void DPDHostStepBackend::moveImages(double elapsed, bool wrap) {
+    ContextArrays current = arrays();
+    leesEdwards.moveImages(context, current.box, elapsed);
+    if (wrap)
+        leesEdwards.wrapIntoPrimaryCell(current.positions, current.box);
+}
+
+double DPDHostStepBackend::evaluateForcingField() {
+    ContextArrays current = arrays();
+    return forcing.evaluate(*forcedIntegrator->getForcingProfile(), current.positions, current.box, masses);
+}
+
+double DPDHostStepBackend::responseOfVelocities() const {
+    return forcing.responseOf(arrays().velocities, masses);
+}
+
+void DPDHostStepBackend::applyForcingImpulse(double xi) {
+    forcing.applyImpulse(xi, arrays().velocities, inverseMasses);
+}
+
+std::vector<Vec3> DPDHostStepBackend::getStoredForces(Vec3* box) const {
+    std::copy(boxOfStoredForces, boxOfStoredForces+3, box);
+    return storedForces;
+}
+
+void DPDHostStepBackend::setStoredForces(std::vector<Vec3> forces, const Vec3* box) {
+    if (!forces.empty()) {
+        storedForces = std::move(forces);
+        std::copy(box, box+3, boxOfStoredForces);
+    }
+    pairsAtCurrentPositions = nullptr;
+    forcesKept = false;
+    latestForcesStored = false;
+    externalStateUnchecked = true;
+}
+
+double DPDHostStepBackend::computeKineticEnergy() const {
+    ContextArrays current = arrays();
+    double energy = 0.0;
+    for (std::size_t i = 0; i < current.velocities.size(); i++)
+        if (inverseMasses[i] != 0.0)
+            energy += 0.5*current.velocities[i].dot(current.velocities[i])/inverseMasses[i];
+    return energy;
+}
+
+void DPDHostStepBackend::stateChanged(OpenMM::State::DataType changed) {
+    if (changed == OpenMM::State::Positions || changed == OpenMM::State::Velocities)
+        externalStateUnchecked = true;
+    // Loading a checkpoint reports every kind of change right after restoring our stored forces,
+    // which belong to the restored state: keep them until the next step.
+    if (state.keepStoredForcesThroughStateChanges)
+        return;
+    directBondedStale |= changed == OpenMM::State::Parameters || changed == OpenMM::State::Energy;
+    if (changed == OpenMM::State::Positions || changed == OpenMM::State::Parameters || changed == OpenMM::State::Energy) {
+        state.storedForcesValid = false;
+        pairsAtCurrentPositions = nullptr;
+    }
+}

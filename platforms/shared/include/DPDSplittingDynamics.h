@@ -1,0 +1,71 @@
+#ifndef OPENMMDPD_DPDSPLITTINGDYNAMICS_H_
+#define OPENMMDPD_DPDSPLITTINGDYNAMICS_H_
+
+#include "DPDSchemeState.h"
+#include "DPDStepBackend.h"
+#include "DPDStepFusion.h"
+#include "DPDStepProgram.h"
+#include "openmmdpd/DPDIntegrator.h"
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <vector>
+
+namespace OpenMMDPD {
+
+/**
+ * The DPD splitting schemes of Shang 2021 (and Wu & Shang's NEMD and Norton dynamics) for every
+ * platform: each step runs its scheme's program (DPDStepProgram) on the platform's backend
+ * (DPDStepBackend), operation by operation or fused where the backend declares it can
+ * (DPDStepFusion), and keeps what carries from step to step in DPDSchemeState.  The Norton
+ * multipliers, NEMD's impulses and the transport sums are computed here, from the backend's G . p.
+ * Nothing here knows a platform.
+ */
+class DPDSplittingDynamics {
+public:
+    using BackendFactory = std::function<std::unique_ptr<DPDStepBackend>(DPDSchemeState& state)>;
+    DPDSplittingDynamics(const DPDIntegrator& integrator, const BackendFactory& makeBackend);
+
+    /** Take one step.  moreStepsFollow (IntegrateDPDStepKernel::execute): this step and the next may share work (DPDStepFusion). */
+    void step(const DPDIntegrator& integrator, bool moreStepsFollow);
+    void createCheckpoint(std::ostream& stream) const;
+    void loadCheckpoint(std::istream& stream);
+
+    DPDIntegrator::TransportStatistics getTransportStatistics() const { return state.transport; }
+    void resetTransportStatistics() { state.transport = DPDIntegrator::TransportStatistics(); }
+    /** Restart the pairwise random numbers from `seed` (0: a new seed) at the next step. */
+    void setRandomNumberSeed(int seed) { state.reseed(seed); }
+    DPDIntegrator::StressStatistics getStressStatistics() const { return backend->stressStatistics(); }
+    void resetStressStatistics() { backend->resetStressStatistics(); }
+    DPDStepBackend& getBackend() { return *backend; }
+    const DPDStepBackend& getBackend() const { return *backend; }
+
+private:
+    /** The program of these settings (cached: rebuilt only when they change). */
+    const std::vector<DPDStepOperation>& programFor(const DPDStepProgram::Options& options);
+    void runProgram(const std::vector<DPDStepOperation>& program, bool moreStepsFollow);
+    void execute(const DPDStepOperation& operation, const DPDFusedOperation& fused, int stepOffset);
+    void executeFused(const std::vector<DPDStepOperation>& program, const DPDFusedOperation& fused);
+    DPDSweepRequest sweepRequest(const DPDStepOperation& sweep) { return {sweep.fraction*stepSize, state.nextSweepKey(), sweep.flag}; }
+    /** Norton: F.G must not vanish (controllability, Wu & Shang after eq. 13). */
+    double requireControllable(double forcingDotResponse) const;
+    [[noreturn]] void throwNonFinite(const char* what, int particle, int stepOffset) const;
+
+    DPDIntegrator::Scheme scheme;
+    double stepSize;
+    DPDSchemeState state;
+    std::unique_ptr<DPDStepBackend> backend;
+    DPDStepProgram::Options programOptions;
+    std::vector<DPDStepOperation> program;
+    bool programBuilt = false;
+
+    // NEMD and Norton, for the current step only.
+    const DPDIntegrator* forcedIntegrator = nullptr;
+    double forcingDotResponse = 0.0;  // F . G at the latest forcing-field evaluation
+    double multiplierSum = 0.0;       // Norton: the step's sum of the counted multipliers xi
+    double responseOfDissipation = 0.0; // Norton: G . Delta p^D of the step's O sweep
+};
+
+} // namespace OpenMMDPD
+
+#endif

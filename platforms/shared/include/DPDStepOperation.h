@@ -1,0 +1,65 @@
+#ifndef OPENMMDPD_DPDSTEPOPERATION_H_
+#define OPENMMDPD_DPDSTEPOPERATION_H_
+
+namespace OpenMMDPD {
+
+/**
+ * One named operation of a scheme's step program (DPDStepProgram): what it does to the state, over
+ * which part of the step h, and which equation of the papers it implements.  The operations are the
+ * same on every platform; how a platform carries one out is its backend's (DPDStepBackend).
+ */
+struct DPDStepOperation {
+    enum Kind {
+        /** Make sure forces (and, for S1, pairs) at the step's starting positions exist: S1 and VV start from the previous step's end. */
+        ForcesAtStart,
+        /** A(f h): q += f h v (Shang 2021 eq. 2.5a; sheared: the exact free flight of DPDLeesEdwardsFlow). */
+        Drift,
+        /** B(f h): v += f h F/m with the forces of the latest evaluation (eq. 2.5b). */
+        Kick,
+        /** The Context's forces at the current positions, and the pairs closer than the dissipative cutoff. */
+        EvaluateForces,
+        /** O(f h) of ABOBA: the successive pairwise exact Ornstein-Uhlenbeck sweep (eqs. 2.14-2.17, 2.22). */
+        OrnsteinUhlenbeckSweep,
+        /** O(f h) of DPD-S1: Shardlow's successive pairwise BBK sweep (eq. 2.12). */
+        BBKSweep,
+        /** VV: F^D + F^R at the current velocities added to the latest forces (eqs. 2.2b, 2.2c). */
+        DissipativeAndRandomForces,
+        /** Lees-Edwards: the image offset at the time f h after the step's start; at f = 1 also the wrap into the box. */
+        MoveImages,
+        /** NEMD and Norton: the forcing and response fields F(q), G(q) at the current positions (Wu & Shang sec. 2). */
+        EvaluateForcingField,
+        /** NEMD: p += eta f h F(q), the forcing's part of the B step (Wu & Shang eq. 6 / 17). */
+        ForcingImpulse,
+        /** Norton: p += xi F with xi = (r - G.p)/(F.G), which sets the response G.p to r (Wu & Shang eqs. 42, 45, 50). */
+        NortonProjection,
+        /** Norton after the O sweep: lambda -= G . Delta p^D / (F.G), the martingale part left out (Wu & Shang eq. 63). */
+        NortonDissipation,
+        /** Norton at the step's end: the step's forcing lambda = sum of the multipliers / h (Wu & Shang eq. 70). */
+        NortonRecord,
+        /** NEMD at the step's end: the response R = G . p at (q^{n+1}, p^{n+1}) (Wu & Shang eq. 9). */
+        SampleResponse
+    };
+    Kind kind;
+    /** The operation's share f of the step size h (Drift, Kick, the sweeps, MoveImages, ForcingImpulse). */
+    double fraction = 0.0;
+    /** Where the papers define it ("2.19" is Shang 2021 eq. 2.19; "WS 52" is Wu & Shang eq. 52). */
+    const char* equation = "";
+    /**
+     * Kick: keep a copy of the forces for the next step's start (S1 and VV).  NortonProjection: its
+     * multiplier counts in lambda.  Sweeps: add the pair stress sums to the step's sample.
+     */
+    bool flag = false;
+
+    static DPDStepOperation of(Kind kind, double fraction, const char* equation, bool flag = false) {
+        DPDStepOperation operation{kind};
+        operation.fraction = fraction;
+        operation.equation = equation;
+        operation.flag = flag;
+        return operation;
+    }
+    bool isSweep() const { return kind == OrnsteinUhlenbeckSweep || kind == BBKSweep; }
+};
+
+} // namespace OpenMMDPD
+
+#endif

@@ -1,0 +1,212 @@
+#include "DPDSplittingDynamics.h"
+#include "openmm/OpenMMException.h"
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <utility>
+
+using namespace OpenMMDPD;
+using Op = DPDStepOperation;
+
+DPDSplittingDynamics::DPDSplittingDynamics(const DPDIntegrator& integrator, const BackendFactory& makeBackend)
+    : scheme(integrator.getScheme()), stepSize(integrator.getStepSize()) {
+    state.reseed(integrator.getRandomNumberSeed());
+    backend = makeBackend(state);
+}
+
+const std::vector<DPDStepOperation>& DPDSplittingDynamics::programFor(const DPDStepProgram::Options& options) {
+    if (!programBuilt || options.scheme != programOptions.scheme || options.forcing != programOptions.forcing ||
+        options.sheared != programOptions.sheared || options.frictionless != programOptions.frictionless) {
+        program = DPDStepProgram::of(options);
+        programOptions = options;
+        programBuilt = true;
+        state.operationsDoneByPreviousStep = 0;
+    }
+    return program;
+}
+
+void DPDSplittingDynamics::step(const DPDIntegrator& integrator, bool moreStepsFollow) {
+    if (integrator.getStepSize() != stepSize) {
+        stepSize = integrator.getStepSize();
+        state.storedForcesValid = false; // VV's stored random force carries 1/sqrt(dt)
+    }
+    DPDStepProgram::Options options;
+    options.scheme = scheme;
+    options.forcing = integrator.getForcingMode();
+    options.sheared = integrator.getShearRate() != 0.0;
+    DPDStepProgram::check(options); // before the step touches anything
+    backend->beginStep(integrator);
+    try {
+        options.frictionless = backend->isFrictionless();
+        forcedIntegrator = &integrator;
+        multiplierSum = 0.0;
+        runProgram(programFor(options), moreStepsFollow);
+    }
+    catch (...) { // no half-done kick outlives the call, nor a half-taken stress sample
+        state.operationsDoneByPreviousStep = 0;
+        state.storedForcesValid = false;
+        backend->abandonStep();
+        throw;
+    }
+    backend->endStep(stepSize, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize); // VV's sweep sums forces, the O sweeps momentum changes
+}
+
+void DPDSplittingDynamics::runProgram(const std::vector<DPDStepOperation>& steps, bool moreStepsFollow) {
+    int size = static_cast<int>(steps.size());
+    int position = std::exchange(state.operationsDoneByPreviousStep, 0);
+    while (position < size) {
+        DPDFusionSupport support = backend->fusionSupport();
+        support.stepsMayShareWork &= moreStepsFollow;
+        DPDFusedOperation fused = DPDStepFusion::next(steps, position, support);
+        if (fused.kind == DPDFusedOperation::Single)
+            execute(steps[position], fused, 0);
+        else
+            executeFused(steps, fused);
+        position += fused.count;
+    }
+    state.operationsDoneByPreviousStep = position-size; // the next step's first operations, done in this step's passes
+}
+
+void DPDSplittingDynamics::execute(const DPDStepOperation& operation, const DPDFusedOperation& fused, int stepOffset) {
+    double dt = operation.fraction*stepSize;
+    switch (operation.kind) {
+    case Op::ForcesAtStart:
+        if (!backend->useForcesOfPreviousStep(scheme == DPDIntegrator::S1)) {
+            backend->evaluateForces(false);
+            backend->storeForces();
+            if (scheme == DPDIntegrator::VV && !programOptions.frictionless)
+                backend->addDissipativeAndRandomForces({stepSize, state.nextSweepKey(), false}); // eq. 2.3's F^D + F^R at (q^n, p^n)
+        }
+        return;
+    case Op::Drift:
+        if (int particle = backend->drift(dt, 1, 0.0, nullptr); particle >= 0)
+            throwNonFinite("positions", particle, stepOffset);
+        return;
+    case Op::Kick:
+        if (!backend->kick(dt, operation.flag))
+            throwNonFinite("velocities", -1, stepOffset);
+        return;
+    case Op::EvaluateForces:
+        backend->evaluateForces(fused.keepForces);
+        return;
+    case Op::OrnsteinUhlenbeckSweep:
+        responseOfDissipation = backend->sweepOrnsteinUhlenbeck(sweepRequest(operation), programOptions.forcing == DPDIntegrator::Norton);
+        return;
+    case Op::BBKSweep:
+        backend->sweepBBK(sweepRequest(operation));
+        return;
+    case Op::DissipativeAndRandomForces:
+        backend->addDissipativeAndRandomForces(sweepRequest(operation));
+        return;
+    case Op::MoveImages:
+        // At the step's end, before its force evaluation, the positions are wrapped into the primary cell
+        // (lattice shifts only): the pairs are then found from the positions the Context keeps, and a
+        // continuation from a checkpoint finds them bit for bit.
+        backend->moveImages(dt, operation.fraction == 1.0);
+        return;
+    case Op::EvaluateForcingField:
+        forcingDotResponse = backend->evaluateForcingField();
+        if (programOptions.forcing == DPDIntegrator::Norton)
+            requireControllable(forcingDotResponse);
+        return;
+    case Op::ForcingImpulse:
+        backend->applyForcingImpulse(dt*forcedIntegrator->getForcingStrength()); // + eta F dt (NEMD's B, Wu & Shang eq. 17)
+        return;
+    case Op::NortonProjection: {
+        // xi sets G . p to r after its sub-step (Wu & Shang eqs. 42, 45, 50); lambda sums the counted ones.
+        double xi = (forcedIntegrator->getForcingStrength()-backend->responseOfVelocities())/forcingDotResponse;
+        backend->applyForcingImpulse(xi);
+        if (operation.flag)
+            multiplierSum += xi;
+        return;
+    }
+    case Op::NortonDissipation:
+        multiplierSum -= responseOfDissipation/forcingDotResponse; // eq. 63: the martingale part left out
+        return;
+    case Op::NortonRecord:
+        state.transport.lastForcing = multiplierSum/stepSize; // eq. 70
+        state.transport.forcingSum += state.transport.lastForcing;
+        [[fallthrough]];
+    case Op::SampleResponse:
+        state.transport.lastResponse = backend->responseOfVelocities(); // R at (q^{n+1}, p^{n+1}), for eq. 9
+        state.transport.responseSum += state.transport.lastResponse;
+        state.transport.steps++;
+        return;
+    }
+}
+
+void DPDSplittingDynamics::executeFused(const std::vector<DPDStepOperation>& steps, const DPDFusedOperation& fused) {
+    int size = static_cast<int>(steps.size());
+    auto operation = [&](int k) -> const Op& { return steps[(fused.first+k) % size]; };
+    int stepOffset = fused.first+fused.count > size ? 1 : 0; // what fails there belongs to the next step
+    switch (fused.kind) {
+    case DPDFusedOperation::KickThenDrift: {
+        bool velocitiesFinite = true;
+        int particle = backend->drift(operation(1).fraction*stepSize, 1, operation(0).fraction*stepSize, &velocitiesFinite);
+        if (!velocitiesFinite)
+            throwNonFinite("velocities", -1, 0);
+        if (particle >= 0)
+            throwNonFinite("positions", particle, 0);
+        return;
+    }
+    case DPDFusedOperation::RepeatedDrift:
+        if (int particle = backend->drift(operation(0).fraction*stepSize, 2, 0.0, nullptr); particle >= 0)
+            throwNonFinite("positions", particle, stepOffset);
+        return;
+    case DPDFusedOperation::SweepBetweenKicks: {
+        const Op& sweep = operation(fused.count-2);
+        if (!backend->sweepBetweenKicks(sweep.kind, sweepRequest(sweep), operation(0).fraction*stepSize))
+            throwNonFinite("velocities", -1, stepOffset);
+        return;
+    }
+    case DPDFusedOperation::KeptForceKick: {
+        bool withForces = operation(0).kind == Op::DissipativeAndRandomForces;
+        DPDSweepRequest sweep = withForces ? sweepRequest(operation(0)) : DPDSweepRequest{};
+        const Op& kick = operation(withForces ? 1 : 0);
+        if (!backend->kickWithKeptForces(kick.fraction*stepSize, fused.kicks, fused.keepForces, withForces ? &sweep : nullptr))
+            throwNonFinite("velocities", -1, 0);
+        return;
+    }
+    case DPDFusedOperation::Single:
+        return;
+    }
+}
+
+double DPDSplittingDynamics::requireControllable(double fDotG) const {
+    if (!(std::fabs(fDotG) > 0.0) || !std::isfinite(fDotG))
+        throw OpenMM::OpenMMException("DPDIntegrator: Norton dynamics needs F(q) . G(q) != 0 (controllability, Wu & Shang "
+                                      "after eq. 13), but the "+forcedIntegrator->getForcingProfile()->getType()+" profile gives "+
+                                      std::to_string(fDotG));
+    return fDotG;
+}
+
+void DPDSplittingDynamics::throwNonFinite(const char* what, int particle, int stepOffset) const {
+    std::stringstream message;
+    message << "DPDIntegrator: non-finite or runaway " << what;
+    if (particle >= 0)
+        message << " (first at particle " << particle << ")";
+    message << " at step " << backend->getStepCount()+1+stepOffset << " (scheme " << DPDIntegrator::schemeName(scheme)
+            << ", step size " << stepSize << " ps): the simulation is unstable; reduce the step size";
+    throw OpenMM::OpenMMException(message.str());
+}
+
+void DPDSplittingDynamics::createCheckpoint(std::ostream& stream) const {
+    // Only VV's stored force depends on more than the positions (the velocities and random numbers
+    // of the previous step's end); S1 recomputes its stored force from the positions, bit for bit.
+    OpenMM::Vec3 box[3];
+    std::vector<OpenMM::Vec3> stored;
+    if (scheme == DPDIntegrator::VV && state.storedForcesValid)
+        stored = backend->getStoredForces(box);
+    state.writeCheckpoint(stream, backend->stressStatistics(), stored, box);
+}
+
+void DPDSplittingDynamics::loadCheckpoint(std::istream& stream) {
+    OpenMM::Vec3 box[3];
+    std::vector<OpenMM::Vec3> stored;
+    DPDIntegrator::StressStatistics stress = backend->stressStatistics();
+    DPDSchemeState loaded = state;
+    loaded.readCheckpoint(stream, backend->getNumParticles(), stress, stored, box); // throws before changing anything
+    state = loaded;
+    backend->stressStatistics() = stress;
+    backend->setStoredForces(std::move(stored), box);
+}

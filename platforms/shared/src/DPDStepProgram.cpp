@@ -1,0 +1,133 @@
+#include "DPDStepProgram.h"
+#include "openmm/OpenMMException.h"
+#include <sstream>
+
+using namespace OpenMMDPD;
+
+namespace {
+using Op = DPDStepOperation;
+
+Op op(Op::Kind kind, double fraction, const char* equation, bool flag = false) { return Op::of(kind, fraction, equation, flag); }
+
+void velocityVerlet(std::vector<Op>& program, const DPDStepProgram::Options& options) {
+    program.push_back(op(Op::ForcesAtStart, 0.0, "2.3 (the previous step's F^C + F^D + F^R)"));
+    program.push_back(op(Op::Kick, 0.5, "2.3a"));
+    program.push_back(op(Op::Drift, 1.0, "2.3b"));
+    if (options.sheared)
+        program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h)"));
+    program.push_back(op(Op::EvaluateForces, 0.0, "2.2a (at q^{n+1})"));
+    if (!options.frictionless)
+        program.push_back(op(Op::DissipativeAndRandomForces, 1.0, "2.2b, 2.2c (at q^{n+1}, p^{n+1/2})", true));
+    program.push_back(op(Op::Kick, 0.5, "2.3c", true)); // kept for the next step's eq. 2.3a
+}
+
+void shardlowS1(std::vector<Op>& program, const DPDStepProgram::Options& options) {
+    program.push_back(op(Op::ForcesAtStart, 0.0, "2.13 (the previous step's F^C and pairs)"));
+    if (!options.frictionless)
+        program.push_back(op(Op::BBKSweep, 1.0, "2.12", true));
+    program.push_back(op(Op::Kick, 0.5, "2.13a"));
+    program.push_back(op(Op::Drift, 1.0, "2.13b"));
+    if (options.sheared)
+        program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h)"));
+    program.push_back(op(Op::EvaluateForces, 0.0, "2.13c (at q^{n+1}, reused next step)"));
+    program.push_back(op(Op::Kick, 0.5, "2.13c", true)); // kept for the next step's eq. 2.13a
+}
+
+void aboba(std::vector<Op>& program, const DPDStepProgram::Options& options) {
+    bool nemd = options.forcing == DPDIntegrator::NEMD;
+    program.push_back(op(Op::Drift, 0.5, "2.19"));
+    if (options.sheared)
+        program.push_back(op(Op::MoveImages, 0.5, "3.2 (offset at t + h/2)"));
+    program.push_back(op(Op::EvaluateForces, 0.0, "2.20 (the one evaluation, at q^{n+1/2})"));
+    if (nemd)
+        program.push_back(op(Op::EvaluateForcingField, 0.0, "WS 6 (F at q^{n+1/2})"));
+    program.push_back(op(Op::Kick, 0.5, "2.20"));
+    if (nemd)
+        program.push_back(op(Op::ForcingImpulse, 0.5, "WS 17"));
+    if (!options.frictionless)
+        program.push_back(op(Op::OrnsteinUhlenbeckSweep, 1.0, "2.21, 2.22", true));
+    program.push_back(op(Op::Kick, 0.5, "2.23"));
+    if (nemd)
+        program.push_back(op(Op::ForcingImpulse, 0.5, "WS 17"));
+    program.push_back(op(Op::Drift, 0.5, "2.24"));
+    if (options.sheared)
+        program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h, wrap)"));
+    if (nemd) {
+        program.push_back(op(Op::EvaluateForcingField, 0.0, "WS 9 (G at q^{n+1})"));
+        program.push_back(op(Op::SampleResponse, 0.0, "WS 9"));
+    }
+}
+
+/** Wu & Shang's ABOBA-Norton: each projection sets G.p = r after its sub-step; lambda sums the multipliers. */
+void abobaNorton(std::vector<Op>& program, const DPDStepProgram::Options& options) {
+    program.push_back(op(Op::Drift, 0.5, "WS 52"));
+    program.push_back(op(Op::EvaluateForcingField, 0.0, "WS 53 (F.G at q^{n+1/2})"));
+    program.push_back(op(Op::NortonProjection, 0.0, "WS 53, 54", true));
+    program.push_back(op(Op::EvaluateForces, 0.0, "WS 55 (at q^{n+1/2})"));
+    program.push_back(op(Op::Kick, 0.5, "WS 55"));
+    program.push_back(op(Op::NortonProjection, 0.0, "WS 56, 57", true));
+    if (!options.frictionless) {
+        program.push_back(op(Op::OrnsteinUhlenbeckSweep, 1.0, "WS 58-61", true));
+        program.push_back(op(Op::NortonProjection, 0.0, "WS 62", false));
+        program.push_back(op(Op::NortonDissipation, 0.0, "WS 63"));
+    }
+    program.push_back(op(Op::Kick, 0.5, "WS 64"));
+    program.push_back(op(Op::NortonProjection, 0.0, "WS 65, 66", true));
+    program.push_back(op(Op::Drift, 0.5, "WS 67"));
+    program.push_back(op(Op::EvaluateForcingField, 0.0, "WS 68 (F.G at q^{n+1})"));
+    program.push_back(op(Op::NortonProjection, 0.0, "WS 68, 69", true));
+    program.push_back(op(Op::NortonRecord, 0.0, "WS 70"));
+}
+
+const char* kindName(Op::Kind kind) {
+    switch (kind) {
+    case Op::ForcesAtStart: return "forces at the start";
+    case Op::Drift: return "A";
+    case Op::Kick: return "B";
+    case Op::EvaluateForces: return "force evaluation";
+    case Op::OrnsteinUhlenbeckSweep: return "O (exact OU sweep)";
+    case Op::BBKSweep: return "O (BBK sweep)";
+    case Op::DissipativeAndRandomForces: return "F^D + F^R";
+    case Op::MoveImages: return "Lees-Edwards images";
+    case Op::EvaluateForcingField: return "forcing fields";
+    case Op::ForcingImpulse: return "forcing impulse";
+    case Op::NortonProjection: return "Norton projection";
+    case Op::NortonDissipation: return "Norton dissipation";
+    case Op::NortonRecord: return "Norton record";
+    case Op::SampleResponse: return "response sample";
+    }
+    return "?";
+}
+} // namespace
+
+void DPDStepProgram::check(const Options& options) {
+    if (options.forcing != DPDIntegrator::NoForcing && options.scheme != DPDIntegrator::ABOBA)
+        throw OpenMM::OpenMMException("DPDIntegrator: NEMD and Norton dynamics are implemented with the ABOBA scheme only");
+    if (options.forcing != DPDIntegrator::NoForcing && options.sheared)
+        throw OpenMM::OpenMMException("DPDIntegrator: Lees-Edwards shear cannot be combined with NEMD or Norton forcing");
+}
+
+std::vector<DPDStepOperation> DPDStepProgram::of(const Options& options) {
+    check(options);
+    std::vector<Op> program;
+    if (options.scheme == DPDIntegrator::VV)
+        velocityVerlet(program, options);
+    else if (options.scheme == DPDIntegrator::S1)
+        shardlowS1(program, options);
+    else if (options.forcing == DPDIntegrator::Norton)
+        abobaNorton(program, options);
+    else
+        aboba(program, options);
+    return program;
+}
+
+std::string DPDStepProgram::describe(const std::vector<DPDStepOperation>& program) {
+    std::stringstream text;
+    for (const Op& operation : program) {
+        text << kindName(operation.kind);
+        if (operation.fraction != 0.0)
+            text << "(" << operation.fraction << " h)";
+        text << "  eq. " << operation.equation << "\n";
+    }
+    return text.str();
+}
