@@ -16,7 +16,11 @@ measured for the soft fluid at gamma = 4.5 (python -m openmmdpd.study examples/s
 ABOBA 0.122, VV 0.049.  LAMMPS' pair dpd + fix nve is the same velocity Verlet as our VV, so it has VV's
 critical step size.
 
-Usage: python benchmarks/bench.py [--sizes ...] [--threads 1 2] [--rounds 3] [--out FILE.md]
+With --baseline PACKAGE_DIR (another build of openmmdpd, e.g. `pip install --target DIR` of an older
+commit), every run of openmmdpd's own methods is also made with that build first on PYTHONPATH, right
+after the current build's run (A B A B ...), and a table gives each method's time, current ÷ baseline.
+
+Usage: python benchmarks/bench.py [--sizes ...] [--threads 1 2] [--rounds 3] [--baseline DIR] [--out FILE.md]
 """
 
 from __future__ import annotations
@@ -76,7 +80,16 @@ def lammps_available() -> Tuple[bool, str]:
     return False, (result.stderr.strip().splitlines() or ["unknown error"])[-1]
 
 
+BASELINE = "@baseline"  # a method name's suffix: the run uses the --baseline build
+baseline_dir: Optional[str] = None
+
+
+def base_method(method: str) -> str:
+    return method[:-len(BASELINE)] if method.endswith(BASELINE) else method
+
+
 def command(method: str, n: int, threads: int, steps: int) -> List[str]:
+    method = base_method(method)
     if method in LAMMPS:
         run = [sys.executable, str(HERE / "child_lammps.py"), method, str(n), str(steps)]
         mpirun = os.path.join(sys.prefix, "bin", "mpirun")
@@ -85,8 +98,11 @@ def command(method: str, n: int, threads: int, steps: int) -> List[str]:
 
 
 def measure(method: str, n: int, threads: int, seconds: float) -> Optional[dict]:
-    steps = int(max(3, min(2000, seconds / (GUESS[method] * 1e-6 * n))))
-    result = subprocess.run(command(method, n, threads, steps), env=child_environment(), capture_output=True, text=True)
+    steps = int(max(3, min(2000, seconds / (GUESS[base_method(method)] * 1e-6 * n))))
+    env = child_environment()
+    if method.endswith(BASELINE):
+        env["PYTHONPATH"] = os.pathsep.join(filter(None, [baseline_dir, env.get("PYTHONPATH")]))
+    result = subprocess.run(command(method, n, threads, steps), env=env, capture_output=True, text=True)
     if result.returncode != 0:
         print(f"  {method} N={n} threads={threads} failed: {result.stderr.strip()[-300:]}", flush=True)
         return None
@@ -118,6 +134,8 @@ def main() -> None:
     parser.add_argument("--methods", nargs="+", default=None,
                         help="only these methods (default: all); e.g. --methods ABOBA VV S1 to time another build of openmmdpd "
                              "put first on PYTHONPATH")
+    parser.add_argument("--baseline", default=None, help="a folder holding another build's openmmdpd package: "
+                        "each of openmmdpd's runs is repeated with it, interleaved, and compared")
     parser.add_argument("--out", default=None, help="also write the tables (markdown) and the raw runs (JSON beside it)")
     args = parser.parse_args()
 
@@ -128,6 +146,11 @@ def main() -> None:
     configs = configurations(args.sizes, args.threads, with_lammps, args.openmm_dpd_max)
     if args.methods:
         configs = [c for c in configs if c[0] in args.methods]
+    if args.baseline:
+        global baseline_dir
+        baseline_dir = os.path.abspath(args.baseline)
+        configs = [c for config in configs for c in ([config, (config[0] + BASELINE,) + config[1:]]
+                                                     if config[0] in OURS + ADDED else [config])]
     samples: Dict[Tuple[str, int, int], List[dict]] = {c: [] for c in configs}
     loads = []
     started = time.time()
@@ -189,6 +212,15 @@ def report(configs, samples, args, loads, elapsed) -> List[str]:
                 lines.append(f"| {n} | {t} | {ratio(('ABOBA', n, t), ('ABOBA-bonded', n, t))} | {ratio(('ABOBA', n, t), ('ABOBA-custombonded', n, t))} | "
                              f"{ratio(('ABOBA', n, t), ('ABOBA-stress', n, t))} | "
                              f"{ratio(('VV', n, t), ('VV-stress', n, t))} | {ratio(('S1', n, t), ('S1-stress', n, t))} |")
+    if args.baseline:
+        lines += ["", f"This build against the baseline build ({args.baseline}), run right after each other in every round: "
+                  "time of this build ÷ time of the baseline (below 1: this build is faster):", "",
+                  "| method | N | threads | this build (µs/particle-step) | baseline | ratio |", "|---|---|---|---|---|---|"]
+        for m, n, t in configs:
+            old = (m + BASELINE, n, t)
+            if not m.endswith(BASELINE) and (m, n, t) in per_particle and old in per_particle:
+                lines.append(f"| {m} | {n} | {t} | {per_particle[(m, n, t)] * 1e6:.3f} | {per_particle[old] * 1e6:.3f} | "
+                             f"{per_particle[(m, n, t)] / per_particle[old]:.3f} |")
     lines += ["", "Two threads against one (speed-up), per method and N:", ""]
     if 1 in args.threads and 2 in args.threads:
         for m in OURS + LAMMPS:

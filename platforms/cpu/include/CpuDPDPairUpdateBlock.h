@@ -11,7 +11,7 @@ namespace OpenMMDPD {
  * The velocity-independent half of a CPU pair sweep, in one vectorised pass: for a run of pairs,
  * the unit vectors e_ij (from the sorted positions, minimum image) and the affine update
  * coefficients (slope, offset) of DPDPairFormulas.h,
- * random numbers included (R_ij = DPDPairRandom::normal(counter, i, j), drawn with the vector math
+ * random numbers included (R_ij of dpdPairNormalFactors, DPDPairRandom.h, drawn with the vector math
  * library).  Pairs outside their cutoff, with zero friction or between two massless particles get
  * (0, 0).  The pass works in fixed blocks of `blockSize` pairs so that every pair takes the same code
  * path wherever it sits in a run: the numbers, and so the trajectory, do not depend on how the pairs

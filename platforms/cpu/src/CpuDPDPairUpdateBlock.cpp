@@ -14,7 +14,7 @@ constexpr int B = static_cast<int>(CpuDPDPairUpdateBlock::blockSize);
 
 /**
  * One block of pairs in three simple loops the vectoriser handles: geometry and parameters, the
- * random numbers (DPDPairRandom::normal, through the vector math library), and the update formulas.
+ * random numbers (dpdPairNormalFactors of DPDPairRandom.h, through the vector math library), and the update formulas.
  * `uniform`: one friction type and one mass for all particles, so the per-pair table and mass
  * gathers give the same values every time and are loaded once (the same operations on the same
  * values: the same bits as the general path).
@@ -77,7 +77,7 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
         }
 #pragma omp simd
         for (int n = 0; n < B; n++) {
-            DPDPairRandom::BoxMuller R = DPDPairRandom::normalFactors(randomKey, originalI[n], originalJ[n]);
+            DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI[n], originalJ[n]);
             squaredRadius[n] = R.squaredRadius;
             cosine[n] = R.cosine;
         }

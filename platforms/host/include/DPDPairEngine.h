@@ -45,7 +45,7 @@ struct DPDPairStressSums {
 
 /**
  * What one pair sweep needs besides the pairs: the friction table, the particles' inverse masses,
- * kT, the sub-step length and the key of the sweep's random numbers (R_ij = DPDPairRandom::normal(randomKey, i, j)).
+ * kT, the sub-step length and the key of the sweep's random numbers (R_ij = dpdNormal(dpdPairNormalFactors(randomKey, i, j)), DPDPairRandom.h).
  * Under Lees-Edwards shear, the shear rate kappa: velocities are peculiar and every pair's relative
  * velocity gets the streaming difference of leesEdwardsRelativeVelocity (DPDPairFormulas.h).  With
  * `stress`, the sweep also adds its pair stress sums there (nullptr: no cost).

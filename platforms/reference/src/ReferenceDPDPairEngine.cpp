@@ -59,7 +59,7 @@ void ReferenceDPDPairEngine::sweepDissipativePairs(const DPDPairSweep& sweep, Vi
         double invReducedMass = sweep.inverseMasses[pair.i]+sweep.inverseMasses[pair.j];
         if (pair.r >= cutoff || gamma == 0.0 || invReducedMass == 0.0)
             continue;
-        visit(pair, 1.0-pair.r/cutoff, gamma, invReducedMass, DPDPairRandom::normalFactors(sweep.randomKey, pair.i, pair.j));
+        visit(pair, 1.0-pair.r/cutoff, gamma, invReducedMass, dpdPairNormalFactors(sweep.randomKey, pair.i, pair.j));
     }
 }
 
@@ -74,7 +74,7 @@ double relativeVelocity(const DPDPairSweep& sweep, const DPDPair& pair, const st
 void addPairStress(const DPDPairSweep& sweep, const DPDPair& pair, const DPDPairUpdate& update, double u) {
     if (sweep.stress == nullptr)
         return;
-    sweep.stress->addPair(pair.r, pair.unit, update.dissipative(u), update.offset);
+    sweep.stress->addPair(pair.r, pair.unit, dpdDissipativePart(update, u), update.offset);
 }
 
 } // namespace
@@ -82,25 +82,25 @@ void addPairStress(const DPDPairSweep& sweep, const DPDPair& pair, const DPDPair
 double ReferenceDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<Vec3>& velocities,
                                                               const std::vector<Vec3>* response) {
     double responseOfDissipation = 0.0;
-    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, DPDPairRandom::BoxMuller R) {
+    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, DPDBoxMuller R) {
         DPDPairUpdate update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, 1.0/invReducedMass, sweep.kT, sweep.dt,
                                                             R.squaredRadius, R.cosine);
         double u = relativeVelocity(sweep, pair, velocities);
-        Vec3 deltaP = pair.unit*update.momentumChange(u); // p_i += Delta p, p_j -= Delta p (eq. 2.17)
+        Vec3 deltaP = pair.unit*dpdMomentumChange(update, u); // p_i += Delta p, p_j -= Delta p (eq. 2.17)
         velocities[pair.i] += deltaP*sweep.inverseMasses[pair.i];
         velocities[pair.j] -= deltaP*sweep.inverseMasses[pair.j];
         addPairStress(sweep, pair, update, u);
         if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
-            responseOfDissipation += update.dissipative(u)*pair.unit.dot((*response)[pair.i]-(*response)[pair.j]);
+            responseOfDissipation += dpdDissipativePart(update, u)*pair.unit.dot((*response)[pair.i]-(*response)[pair.j]);
     });
     return responseOfDissipation;
 }
 
 void ReferenceDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<Vec3>& velocities) {
-    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, DPDPairRandom::BoxMuller R) {
-        DPDPairUpdate update = bbkUpdate(gamma, w, invReducedMass, sweep.kT, sweep.dt, R.value());
+    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, DPDBoxMuller R) {
+        DPDPairUpdate update = bbkUpdate(gamma, w, invReducedMass, sweep.kT, sweep.dt, dpdNormal(R));
         double u = relativeVelocity(sweep, pair, velocities);
-        Vec3 deltaP = pair.unit*update.momentumChange(u); // eq. 2.12
+        Vec3 deltaP = pair.unit*dpdMomentumChange(update, u); // eq. 2.12
         velocities[pair.i] += deltaP*sweep.inverseMasses[pair.i];
         velocities[pair.j] -= deltaP*sweep.inverseMasses[pair.j];
         addPairStress(sweep, pair, update, u);
@@ -109,10 +109,10 @@ void ReferenceDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::ve
 
 void ReferenceDPDPairEngine::addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities,
                                                            std::vector<Vec3>& forces) {
-    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, DPDPairRandom::BoxMuller R) {
-        DPDPairUpdate force = dissipativeAndRandomForce(gamma, w, sweep.kT, sweep.dt, R.value());
+    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, DPDBoxMuller R) {
+        DPDPairUpdate force = dissipativeAndRandomForce(gamma, w, sweep.kT, sweep.dt, dpdNormal(R));
         double u = relativeVelocity(sweep, pair, velocities);
-        Vec3 f = pair.unit*force.momentumChange(u); // eqs. 2.2b, 2.2c
+        Vec3 f = pair.unit*dpdMomentumChange(force, u); // eqs. 2.2b, 2.2c
         forces[pair.i] += f;
         forces[pair.j] -= f;
         addPairStress(sweep, pair, force, u);

@@ -1,16 +1,14 @@
 #ifndef OPENMMDPD_DPDPAIRFORMULAS_H_
 #define OPENMMDPD_DPDPAIRFORMULAS_H_
 
-#include <cmath>
+#ifndef DPD_KERNEL_SOURCE // a kernel source has the dialect before this text
+#include "DPDKernelDialect.h"
+#endif
 
-/** Forced inlining, so that the CPU engine's vector loops see through these formulas. */
-#define OPENMMDPD_PAIR_FORMULA inline __attribute__((always_inline))
-
-namespace OpenMMDPD {
-
-/**
- * The per-pair formulas of the DPD schemes, written once for every platform.  Each pair update of a
- * sweep is linear in the pair's relative velocity along e_ij, u = e_ij . (v_i - v_j):
+/*
+ * The per-pair formulas of the DPD schemes, written once for every platform, host and kernel
+ * (DPDKernelDialect.h), in double precision.  Each pair update of a sweep is linear in the pair's
+ * relative velocity along e_ij, u = e_ij . (v_i - v_j):
  *
  *     Delta p = slope u + offset,      p_i += Delta p e_ij,  p_j -= Delta p e_ij,
  *
@@ -18,12 +16,30 @@ namespace OpenMMDPD {
  * and keep only this cheap affine update in its successive (velocity-dependent) part.
  * Inputs: gamma_ij, w = 1 - r/r_c, the inverse reduced mass 1/m_ij = 1/m_i + 1/m_j (> 0), kT, dt, R ~ N(0,1).
  */
-struct DPDPairUpdate {
+
+DPD_BEGIN_NAMESPACE
+
+/** A pair update Delta p = slope u + offset along e_ij (or, for VV, a force magnitude). */
+typedef struct DPDPairUpdate {
     double slope, offset;
-    /** Of the momentum change, the part that is dissipation (not noise): slope u (Norton, eq. 60). */
-    double dissipative(double relativeVelocity) const { return slope*relativeVelocity; }
-    double momentumChange(double relativeVelocity) const { return slope*relativeVelocity + offset; }
-};
+} DPDPairUpdate;
+
+DPD_FUNCTION DPDPairUpdate dpdPairUpdate(double slope, double offset) {
+    DPDPairUpdate update;
+    update.slope = slope;
+    update.offset = offset;
+    return update;
+}
+
+/** The whole momentum change (or force) of a pair whose relative velocity along e_ij is u. */
+DPD_FUNCTION double dpdMomentumChange(DPDPairUpdate update, double relativeVelocity) {
+    return update.slope*relativeVelocity + update.offset;
+}
+
+/** Of the momentum change, the part that is dissipation (not noise): slope u (Norton, Wu & Shang eq. 60). */
+DPD_FUNCTION double dpdDissipativePart(DPDPairUpdate update, double relativeVelocity) {
+    return update.slope*relativeVelocity;
+}
 
 /**
  * The streaming part of a pair's relative velocity under Lees-Edwards shear (Shang 2021 eq. 3.2,
@@ -36,23 +52,22 @@ struct DPDPairUpdate {
  *     u = e . (v_i - v_j)_lab = e . (v_i - v_j)_peculiar + kappa r e_x e_y.
  * It is 0 without shear.  Forces and momentum kicks are the same in both frames.
  */
-OPENMMDPD_PAIR_FORMULA double leesEdwardsRelativeVelocity(double shearRate, double r, double ex, double ey) {
+DPD_FUNCTION double leesEdwardsRelativeVelocity(double shearRate, double r, double ex, double ey) {
     return shearRate*r*ex*ey;
 }
 
 /**
  * The exact solution of m_ij du = -gamma w^2 u dt + sigma w dW over dt (eqs. 2.14-2.16, 2.22), with
  * sigma^2 = 2 gamma kT: u' = u exp(-tau dt) + sqrt(kT/m_ij (1 - exp(-2 tau dt))) R, tau = gamma w^2/m_ij.
- * R = sqrt(squaredRadius) cosine comes in its Box-Muller factors (DPDPairRandom::BoxMuller), so the
- * two square roots are one; the reduced mass m_ij = 1/invReducedMass comes too (a constant in a fluid
- * of one mass).
+ * R = sqrt(squaredRadius) cosine comes in its Box-Muller factors (DPDBoxMuller), so the two square
+ * roots are one; the reduced mass m_ij = 1/invReducedMass comes too (a constant in a fluid of one mass).
  */
-OPENMMDPD_PAIR_FORMULA DPDPairUpdate exactOrnsteinUhlenbeckUpdate(double gamma, double w, double invReducedMass, double reducedMass,
-                                                                  double kT, double dt, double squaredRadius, double cosine) {
+DPD_FUNCTION DPDPairUpdate exactOrnsteinUhlenbeckUpdate(double gamma, double w, double invReducedMass, double reducedMass,
+                                                       double kT, double dt, double squaredRadius, double cosine) {
     double tau = gamma*w*w*invReducedMass;
-    double decay = std::expm1(-tau*dt);           // exp(-tau dt) - 1, accurate for small tau dt
-    double decay2 = decay*(decay+2.0);             // exp(-2 tau dt) - 1, without a second exponential
-    return {reducedMass*decay, std::sqrt(-kT*reducedMass*decay2*squaredRadius)*cosine};
+    double decay = expm1(-tau*dt);      // exp(-tau dt) - 1, accurate for small tau dt
+    double decay2 = decay*(decay+2.0);  // exp(-2 tau dt) - 1, without a second exponential
+    return dpdPairUpdate(reducedMass*decay, sqrt(-kT*reducedMass*decay2*squaredRadius)*cosine);
 }
 
 /**
@@ -60,19 +75,19 @@ OPENMMDPD_PAIR_FORMULA DPDPairUpdate exactOrnsteinUhlenbeckUpdate(double gamma, 
  * an explicit half step Delta_1 = -K u + J, then an implicit one Delta_2 = (J - K (u + Delta_1/m_ij))/(1 + K/m_ij)
  * (its denominator is the paper's 1 + 2K at unit mass), written as one affine map of u.
  */
-OPENMMDPD_PAIR_FORMULA DPDPairUpdate bbkUpdate(double gamma, double w, double invReducedMass, double kT, double dt, double R) {
+DPD_FUNCTION DPDPairUpdate bbkUpdate(double gamma, double w, double invReducedMass, double kT, double dt, double R) {
     double K = 0.5*gamma*w*w*dt;
-    double J = 0.5*std::sqrt(2.0*gamma*kT*dt)*w*R;
+    double J = 0.5*sqrt(2.0*gamma*kT*dt)*w*R;
     double implicitFactor = 1.0/(1.0 + K*invReducedMass);
     double afterExplicit = 1.0 - K*invReducedMass; // u + Delta_1/m_ij = afterExplicit u + J/m_ij
-    return {-K - K*afterExplicit*implicitFactor, J + (J - K*J*invReducedMass)*implicitFactor};
+    return dpdPairUpdate(-K - K*afterExplicit*implicitFactor, J + (J - K*J*invReducedMass)*implicitFactor);
 }
 
 /** VV's pair force magnitude along e_ij, F^D + F^R = -gamma w^2 u + sigma w R/sqrt(dt) (eqs. 2.2b, 2.2c). */
-OPENMMDPD_PAIR_FORMULA DPDPairUpdate dissipativeAndRandomForce(double gamma, double w, double kT, double dt, double R) {
-    return {-gamma*w*w, std::sqrt(2.0*gamma*kT/dt)*w*R};
+DPD_FUNCTION DPDPairUpdate dissipativeAndRandomForce(double gamma, double w, double kT, double dt, double R) {
+    return dpdPairUpdate(-gamma*w*w, sqrt(2.0*gamma*kT/dt)*w*R);
 }
 
-} // namespace OpenMMDPD
+DPD_END_NAMESPACE
 
 #endif
