@@ -365,14 +365,14 @@ TEST(CpuPairEngine, OwnPairsAndNortonAreBitIdenticalAcrossThreadCounts) {
 TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
     // With one DPDForce, the engine keeps its conservative forces and the schemes kick in its passes:
     // ABOBA's B(h/2) O B(h/2) is one sweep that kicks in its gather and scatter
-    // (DPDPairSweep::flankingKick), VV's and S1's closing kick is the forces' one way to System order
-    // (DPDPairEngine::kickWithKeptForces, VV's F^D + F^R swept on the way).  A second DPDForce of zero
+    // (DPDForceKeepingPairEngine::sweepBetweenKeptForceKicks), VV's and S1's closing kick is the forces' one way
+    // to System order (DPDForceKeepingPairEngine::kickWithKeptForces, VV's F^D + F^R swept on the way).  A second DPDForce of zero
     // strength changes no force but makes the step take the separate kicks, the forces going through the
     // Context: the same bits.  In a small box (one block per colour, the search in two parts) and a
     // larger one, on 1 and 2 threads, with masses that differ between particles, and with the friction
     // cutoff raised past the DPDForce's once bound (the integrator's own pairs then: the kept forces
     // reach the Context after all).  Within one step(15) call VV and S1 also share the kick between two
-    // steps, ABOBA the drift (DPDSplittingDynamics::stepsMayShareWork); fifteen step(1) calls share
+    // steps, ABOBA the drift (DPDStepFusion, DPDFusionSupport::stepsMayShareWork); fifteen step(1) calls share
     // none: the same bits again.
     auto run = [](const System& system, const EquilibratedFluid& start, const std::string& scheme, double frictionCutoff, int threads,
                   int calls = 1) {
@@ -409,7 +409,7 @@ TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
 
 TEST(CpuPairEngine, KicksAreSharedOnlyWhereNothingLooksBetweenSteps) {
     // VV and S1 share the kick between two steps of one step(n) call, ABOBA the drift, only when nothing
-    // can see the state between them (DPDSplittingDynamics::stepsMayShareWork).  A CMMotionRemover changes the
+    // can see the state between them (DPDStepFusion, DPDFusionSupport::stepsMayShareWork).  A CMMotionRemover changes the
     // velocities between steps (in a force group the integrator leaves out, so the DPDForce is still
     // the one integrated force), and stress samples read them at each step's end: with either, one
     // step(10) call must give what ten step(1) calls give, bit for bit (if the kick were shared, the

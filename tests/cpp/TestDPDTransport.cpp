@@ -121,6 +121,34 @@ TEST(Transport, NortonAtZeroResponseHasPlainABOBAStatistics) {
         << "plain " << mean[0] << " +- " << error[0] << ", Norton " << mean[1] << " +- " << error[1];
 }
 
+TEST(Transport, NortonStressSamplesSeeItsOSweep) {
+    // Stress with Norton: the sample's random part comes from the O sweep's pair sums (their noise
+    // halves depend on the positions and random numbers only).  From one state, one Norton step and one
+    // plain ABOBA step sweep at the same half-step positions with the same random numbers (Norton's
+    // projections change only velocities), so their random parts agree bit for bit; a Norton sweep
+    // that gathered no stress (as it once did) gives zero there.
+    SoftFluid fluid = makeSoftFluid(300, 3.0, 61);
+    for (const char* platformName : {"Reference", "CPU"}) {
+        DPDIntegrator::StressStatistics statistics[2];
+        for (int norton = 0; norton < 2; norton++) {
+            DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, DPDIntegrator::ABOBA);
+            integrator.setRandomNumberSeed(67);
+            integrator.setStressAccumulation(true);
+            if (norton)
+                integrator.setNorton(DPDColourDrift(), 0.2);
+            auto context = makeContext(fluid, integrator, platformName);
+            integrator.step(1);
+            statistics[norton] = integrator.getStressStatistics();
+        }
+        for (int k = 0; k < 9; k++) {
+            EXPECT_EQ(statistics[1].random[k], statistics[0].random[k]) << platformName << ", component " << k;
+            if (k % 4 == 0) { // the diagonal
+                EXPECT_NE(statistics[1].random[k], 0.0) << platformName << ", component " << k;
+            }
+        }
+    }
+}
+
 TEST(Transport, ColourDriftNEMDConservesMomentum) {
     // The colour drift pushes half the particles each way (eq. 77): the total momentum stays put.
     SoftFluid fluid = makeSoftFluid(200, 3.0, 61);
