@@ -1,17 +1,14 @@
 #ifndef OPENMMDPD_CPUDPDPAIRENGINE_H_
 #define OPENMMDPD_CPUDPDPAIRENGINE_H_
 
-#include "CpuDPDBlockQueue.h"
-#include "CpuDPDCandidateSet.h"
 #include "CpuDPDCellStress.h"
-#include "CpuDPDCellGrid.h"
+#include "CpuDPDEngineThreads.h"
 #include "CpuDPDHugePages.h"
 #include "CpuDPDPairBuffer.h"
+#include "CpuDPDPairSearch.h"
 #include "CpuDPDSweepPipeline.h"
 #include "CpuDPDPairUpdateBlock.h"
 #include "CpuDPDSuccessiveSweep.h"
-#include "CpuDPDThreadBarrier.h"
-#include "CpuDPDThreadTeam.h"
 #include "DPDForceKeepingPairEngine.h"
 #include <functional>
 #include <memory>
@@ -20,9 +17,10 @@
 namespace OpenMMDPD {
 
 /**
- * The CPU platform's DPD pairs: its own cell list (CpuDPDCellGrid) searched from scratch at every
- * evaluation, the conservative force added in the same pass, and pair sweeps that run colour by
- * colour.  Within a colour, blocks of cells share no particle, so the threads take its blocks (each
+ * The CPU platform's DPD pairs, in four ideas: the search (CpuDPDPairSearch: its own cell list,
+ * searched from scratch at every evaluation, the conservative force added in the same pass), the
+ * sweeps here, which run colour by colour, the threads (CpuDPDEngineThreads) and the write-back to
+ * System order (CpuDPDWriteBack).  Within a colour, blocks of cells share no particle, so the threads take its blocks (each
  * its own share first, then what is left of the others', CpuDPDBlockQueue) and update velocities (or
  * forces) without locks; colours follow one another behind a barrier.
  *
@@ -45,14 +43,14 @@ public:
     explicit CpuDPDPairEngine(int numThreads);
     double findPairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, double radius,
                      const DPDTypePairTable::Compiled* repulsion, std::vector<OpenMM::Vec3>* forces) override;
-    double getRadius() const override { return radius; }
+    double getRadius() const override { return search.getRadius(); }
     double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
                                           const std::vector<OpenMM::Vec3>* response) override;
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
-    void keepForcesSorted(bool keep) override { forcesStaySorted = keep; }
-    void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) override;
+    void keepForcesSorted(bool keep) override { search.keepForcesSorted(keep); }
+    void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) override { search.addKeptForcesTo(forces); }
     bool sweepBetweenKeptForceKicks(bool bbk, const DPDPairSweep& sweep, double kickDt, std::vector<OpenMM::Vec3>& velocities) override;
     bool kickWithKeptForces(const DPDKeptForceKick& kick, const DPDPairSweep* dissipativeAndRandom, std::vector<OpenMM::Vec3>& velocities) override;
     /** On the engine's threads when every thread gets enough particles to pay for the hand-over; else at once. */
@@ -60,38 +58,6 @@ public:
 
 private:
     using PairBuffer = CpuDPDPairBuffer;
-    /** Run body(thread) on the engine's threads (on the caller alone when there is one: small systems pay no hand-over). */
-    void onThreads(const std::function<void(int)>& body) { threads->runOn(numThreads, body); }
-    /** Give a thread its share of a colour's blocks in blockQueue: about 1/numThreads of the colour's cells. */
-    void shareBlocksOfColor(int color, int thread);
-    /** Find the pairs of a cell into `buffer`; with `repulsion`, add their conservative forces to sortedForces (sorted order). */
-    void searchCell(int cell, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion, CpuDPDCandidateSet& candidates,
-                    OpenMM::Vec3* sortedForces);
-    /** A small grid's search (one block per colour): thread t searches part t (both parts with one thread). */
-    void searchSmallGridParts(int thread, PairBuffer& buffer, const DPDTypePairTable::Compiled* repulsion);
-    /** The first sorted particle of a thread's share of [0, numParticles). */
-    int particleRangeBegin(int thread, int numParticles) const { return CpuDPDCellGrid::shareBegin(numParticles, thread, numThreads); }
-    /**
-     * visit(i, s) for the particles whose results thread t writes back to System order.  Several
-     * threads in a large box (sortedWriteBack): its own sorted range, read in order and stored at
-     * random (System order is far larger than the caches, so a store at random misses anyway, while
-     * the sorted data are this thread's).  Otherwise those it located (forEachLocatedParticle): no
-     * cache line of System order takes writes from two threads, which counts while it fits a cache.
-     */
-    template <class Visit>
-    void forEachWriteBack(int thread, Visit visit) const {
-        if (!sortedWriteBack)
-            return grid.forEachLocatedParticle(thread, visit);
-        int numParticles = static_cast<int>(grid.sortedToOriginal.size());
-        for (int s = particleRangeBegin(thread, numParticles); s < particleRangeBegin(thread+1, numParticles); s++)
-            visit(grid.sortedToOriginal[s], s);
-    }
-    /**
-     * Whether a thread's write-back reads sorted entries that other threads swept (several threads
-     * writing back the particles they located): results it can finish on its own sorted range first
-     * (a second kick, VV's force sum) are then better finished there, before a barrier.
-     */
-    bool writeBackReadsOtherThreads() const { return numThreads > 1 && !smallGrid && !sortedWriteBack; }
     using ParticleRangeTask = std::function<void(int begin, int end)>;
     /**
      * Consecutive cells [cellBegin, cellEnd) of sweep order (whole blocks of one colour, or a small
@@ -139,32 +105,25 @@ private:
     void sweepDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                          std::vector<OpenMM::Vec3>& sortedResult, const ScatterTask& scatter);
 
-    std::shared_ptr<CpuDPDThreadTeam> threads;
-    int numThreads;
-    CpuDPDThreadBarrier barrier;
-    CpuDPDCellGrid grid;
-    double radius = 0.0;
-    std::vector<PairBuffer> buffers;                 // one per thread
-    std::vector<CpuDPDCandidateSet> candidateSets;    // one per thread
-    CpuDPDBlockQueue blockQueue;                      // a colour's blocks, shared among the threads
-    std::vector<int> cellPairBegin, cellPairEnd;      // a cell's pairs in its searching thread's buffer
-    std::vector<int> cellBuffer;                      // the thread that searched a cell (its buffer holds the pairs)
+    CpuDPDEngineThreads threads;
+    CpuDPDPairSearch search;
+    // The latest search's grid and pairs, which every sweep reads.
+    const CpuDPDCellGrid& grid;
+    const std::vector<PairBuffer>& buffers;
+    const std::vector<int>& cellPairBegin;
+    const std::vector<int>& cellPairEnd;
+    const std::vector<int>& cellBuffer;
+    std::vector<OpenMM::Vec3>& sortedForces;          // the search's conservative forces (kept), or VV's F^D + F^R when they are not
     std::vector<CpuDPDPairUpdateBlock> blocks;        // per thread, one per stream of runs
     CpuDPDCellStress cellStress;                      // per-cell pair stress sums of a sweep that gathers stress
-    std::vector<int> nonFinite;                       // per thread: the first particle found with a non-finite position, or -1
-    std::vector<double> cellSum;                      // per-cell partial sums (energy, Norton's response), summed in sweep order
-    std::vector<OpenMM::Vec3> sortedForces, sortedVelocities, sortedResponse;
+    std::vector<double> cellResponse;                 // Norton: per-cell G . Delta p^D, summed in sweep order
+    std::vector<OpenMM::Vec3> sortedVelocities, sortedResponse;
     std::vector<OpenMM::Vec3> sortedDissipativeAndRandomForces; // VV's, while sortedForces holds the kept conservative forces
-    std::vector<int> sortedRepulsionType, sortedFrictionType;
-    std::vector<double> inverseRepulsionCutoff;       // 1/r_c per type pair of the DPDForce being evaluated
+    std::vector<int> sortedFrictionType;
     std::vector<double> sortedInverseMass;            // gathered only when the sweep is not uniform
     bool uniformSweep = false;                        // one friction type, one mass: no per-particle parameters
     double uniformInverseMass = 0.0;
-    bool forcesStaySorted = false;                    // keepForcesSorted: the search's forces stay in sortedForces (a small grid's two parts summed there)
-    CpuDPDHugePages hugePages;                        // OpenMM's arrays, which the engine reads and writes at random
-    bool smallGrid = false;                           // one block per colour (findPairs)
-    bool sortedWriteBack = false;                     // forEachWriteBack from sorted ranges (findPairs)
-    std::vector<OpenMM::Vec3> secondPartForces;       // a small grid's second search part's forces (sorted order)
+    CpuDPDHugePages hugePages;                        // OpenMM's arrays, which the sweeps read and write at random
     CpuDPDSweepPipeline sweepPipeline;                // a small grid's sweep in pieces, shared by two threads
     std::vector<CpuDPDPairUpdateBlock> pieceBlocks;   // the pieces' coefficients
 };
