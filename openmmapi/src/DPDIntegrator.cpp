@@ -27,7 +27,14 @@ DPDIntegrator::Scheme DPDIntegrator::schemeFromName(const std::string& name) {
         return S1;
     if (name == "ABOBA")
         return ABOBA;
-    throw OpenMMException("DPDIntegrator: unknown scheme '"+name+"'; the schemes are \"VV\", \"S1\" and \"ABOBA\"");
+    if (name == "S1-OU")
+        return S1ExactOU;
+    if (name == "BAOAB")
+        return BAOAB;
+    if (name == "BAOOAB")
+        return BAOOAB;
+    throw OpenMMException("DPDIntegrator: unknown scheme '"+name+"'; the schemes are \"VV\", \"S1\", \"ABOBA\", \"S1-OU\", \"BAOAB\" "
+                          "and \"BAOOAB\"");
 }
 
 std::string DPDIntegrator::schemeName(Scheme scheme) {
@@ -35,9 +42,12 @@ std::string DPDIntegrator::schemeName(Scheme scheme) {
         case VV: return "VV";
         case S1: return "S1";
         case ABOBA: return "ABOBA";
+        case S1ExactOU: return "S1-OU";
+        case BAOAB: return "BAOAB";
+        case BAOOAB: return "BAOOAB";
     }
     std::stringstream message;
-    message << "DPDIntegrator: unknown scheme " << static_cast<int>(scheme) << "; the schemes are VV (0), S1 (1) and ABOBA (2)";
+    message << "DPDIntegrator: unknown scheme " << static_cast<int>(scheme) << "; the schemes are VV (0), S1 (1), ABOBA (2), S1-OU (3), BAOAB (4) and BAOOAB (5)";
     throw OpenMMException(message.str());
 }
 

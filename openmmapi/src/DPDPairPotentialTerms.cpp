@@ -120,7 +120,7 @@ public:
         std::map<std::string, double> particleVariables = variables;
         for (int i = 0; i < numParticles; i++) {
             force.getParticleParameters(i, parameters);
-            double* values = &particleValues[static_cast<std::size_t>(i)*stride];
+            double* values = particleValues.data()+static_cast<std::size_t>(i)*stride; // stride 0: no values, no element to index
             for (int k = 0; k < numPerParticle; k++)
                 particleVariables[valueNames[k]] = values[k] = parameters[k];
             for (int k = 0; k < numComputed; k++)
@@ -132,8 +132,8 @@ public:
         if (r >= rc || !interacts(i, j))
             return;
         variables["r"] = r;
-        const double* values1 = &particleValues[static_cast<std::size_t>(i)*stride];
-        const double* values2 = &particleValues[static_cast<std::size_t>(j)*stride];
+        const double* values1 = particleValues.data()+static_cast<std::size_t>(i)*stride;
+        const double* values2 = particleValues.data()+static_cast<std::size_t>(j)*stride;
         for (int k = 0; k < stride; k++) {
             variables[pairVariableNames[k].first] = values1[k];
             variables[pairVariableNames[k].second] = values2[k];

@@ -11,7 +11,7 @@ from . import _openmmdpd
 from ._type_pairs import TypePairMethods
 from ._units import Number, value_in
 
-SCHEMES: Tuple[str, ...] = ("VV", "S1", "ABOBA")
+SCHEMES: Tuple[str, ...] = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB")
 """The schemes a DPDIntegrator runs."""
 
 
@@ -54,7 +54,10 @@ _FRICTION_UNIT = unit.amu / unit.picosecond
 
 class DPDIntegrator(openmm.Integrator, TypePairMethods):
     """Dissipative particle dynamics with velocity Verlet ("VV", eq. 2.3), Shardlow's DPD-S1 ("S1",
-    eqs. 2.9-2.13) or ABOBA ("ABOBA", eqs. 2.18-2.24) of Shang (2021).
+    eqs. 2.9-2.13) or ABOBA ("ABOBA", eqs. 2.18-2.24) of Shang (2021), or the methods of its discussion
+    after Figure 4: DPD-S1 with the exact OU sweep ("S1-OU"), BAOAB ("BAOAB": B A O A B, the O sweep
+    at the half-drift positions) and its symmetric form ("BAOOAB": the second O sweep over the pairs in
+    reverse order).
 
     Per-type-pair frictions and cutoffs with ``setParticleType``/``addTypePair``.  The B step uses
     the total force of the Context, so any OpenMM force may supply the conservative part.  A step
@@ -73,7 +76,7 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
     step_size : float or Quantity
         The step size, in ps (> 0).
     scheme : str
-        ``"VV"``, ``"S1"`` or ``"ABOBA"``.
+        ``"VV"``, ``"S1"``, ``"ABOBA"``, ``"S1-OU"``, ``"BAOAB"`` or ``"BAOOAB"``.
     """
 
     def __init__(self, temperature: Number, friction: Number, cutoff: Number, step_size: Number,
@@ -96,7 +99,7 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
         return _openmmdpd.integrator_table(self)
 
     def getScheme(self) -> str:
-        """``"VV"``, ``"S1"`` or ``"ABOBA"``."""
+        """``"VV"``, ``"S1"``, ``"ABOBA"``, ``"S1-OU"``, ``"BAOAB"`` or ``"BAOOAB"``."""
         return _openmmdpd.integrator_get_scheme(self)
 
     def getTemperature(self) -> float:

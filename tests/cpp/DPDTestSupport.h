@@ -20,6 +20,7 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <cctype>
 #include <string>
 #include <vector>
 
@@ -46,7 +47,14 @@ constexpr double kB = 0.00831446261815324;
 constexpr double reducedTemperature = 1.0/kB;
 
 const std::vector<std::string> allPlatforms = {"Reference", "CPU"};
-const std::vector<std::string> allSchemes = {"VV", "S1", "ABOBA"};
+const std::vector<std::string> allSchemes = {"VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB"};
+/** A scheme's or platform's name as a GoogleTest parameter name (letters, digits and _ only: "S1-OU" -> "S1_OU"). */
+inline std::string testName(std::string name) {
+    for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c)))
+            c = '_';
+    return name;
+}
 
 inline OpenMM::Platform& platform(const std::string& name) {
     loadPlugins();

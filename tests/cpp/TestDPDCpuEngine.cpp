@@ -392,7 +392,7 @@ TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
             start.fluid.system->setParticleMass(i, 2.0);
         std::unique_ptr<System> withZeroForce(XmlSerializer::clone<System>(*start.fluid.system));
         withZeroForce->addForce(new DPDForce(0.0, 0.5));
-        for (const char* scheme : {"ABOBA", "VV", "S1"})
+        for (const char* scheme : {"ABOBA", "VV", "S1", "S1-OU", "BAOAB", "BAOOAB"})
             for (double frictionCutoff : {1.0, 1.2})
                 for (int threads : {1, 2}) {
                     SCOPED_TRACE(std::string(scheme) + ", " + std::to_string(n) + " particles, friction cutoff " +
@@ -419,7 +419,7 @@ TEST(CpuPairEngine, KicksAreSharedOnlyWhereNothingLooksBetweenSteps) {
     std::unique_ptr<System> withRemover(XmlSerializer::clone<System>(*start.fluid.system));
     withRemover->addForce(new CMMotionRemover(1));
     withRemover->getForce(withRemover->getNumForces()-1).setForceGroup(1);
-    for (const char* scheme : {"ABOBA", "VV", "S1"})
+    for (const char* scheme : {"ABOBA", "VV", "S1", "S1-OU", "BAOAB", "BAOOAB"})
         for (bool stress : {false, true}) {
             SCOPED_TRACE(std::string(scheme) + (stress ? ", stress samples" : ", a CMMotionRemover"));
             Snapshot result[2];
@@ -453,8 +453,10 @@ TEST(CpuPairEngine, FusedKicksCatchANonFiniteVelocity) {
     // evaluation gives it no force and the first kick and drift leave it in place; the fluid moves in
     // during the step, and the closing kick with the kept forces (the first kick of a fused kind) reports it.
     // In one step(5) call, S1's closing kick of step 1 is applied as step 2's O sweep gathers (the kick
-    // the two steps share), and reported there; step by step, at step 1.
-    for (const char* scheme : {"ABOBA", "VV", "S1"})
+    // the two steps share), and reported there; step by step, at step 1.  BAOAB and BAOOAB sweep at the
+    // half-drift positions, where the fluid has moved in: the sweep gives the light particle its huge
+    // velocity, and the drift after it reports the runaway position, at step 1.
+    for (const char* scheme : {"ABOBA", "VV", "S1", "S1-OU", "BAOAB", "BAOOAB"})
         for (int n : {500, 3000})
             for (int threads : {1, 2})
                 for (bool oneCall : {true, false}) {
@@ -484,8 +486,10 @@ TEST(CpuPairEngine, FusedKicksCatchANonFiniteVelocity) {
                         ADD_FAILURE() << "no exception";
                     }
                     catch (const OpenMMException& e) {
-                        int step = oneCall && std::string(scheme) == "S1" ? 2 : 1;
-                        std::string expected = "non-finite or runaway velocities at step "+std::to_string(step)+" (scheme "+scheme;
+                        int step = oneCall && (std::string(scheme) == "S1" || std::string(scheme) == "S1-OU") ? 2 : 1;
+                        bool sweptAtHalfStep = std::string(scheme) == "BAOAB" || std::string(scheme) == "BAOOAB";
+                        std::string expected = std::string("non-finite or runaway ")+(sweptAtHalfStep ? "positions (first at particle 7)" : "velocities")+
+                                               " at step "+std::to_string(step)+" (scheme "+scheme;
                         EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
                     }
                 }

@@ -20,11 +20,11 @@ namespace {
 using PlatformAndScheme = std::tuple<std::string, std::string>;
 
 std::string platformAndSchemeName(const ::testing::TestParamInfo<PlatformAndScheme>& info) {
-    return std::get<0>(info.param)+"_"+std::get<1>(info.param);
+    return std::get<0>(info.param)+"_"+testName(std::get<1>(info.param));
 }
 
 std::string schemeName(const ::testing::TestParamInfo<std::string>& info) {
-    return info.param;
+    return testName(info.param);
 }
 
 class EveryPlatformAndScheme : public ::testing::TestWithParam<PlatformAndScheme> {

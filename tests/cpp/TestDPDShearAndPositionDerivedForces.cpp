@@ -130,7 +130,7 @@ TEST_P(ShearWithMolecules, BondsWithoutPeriodicBoundaryConditionsSeeTheirMolecul
 
 INSTANTIATE_TEST_SUITE_P(Schemes, ShearWithMolecules,
                          ::testing::Combine(::testing::ValuesIn(allPlatforms), ::testing::ValuesIn(allSchemes)),
-                         [](const auto& info) { return std::get<0>(info.param)+"_"+std::get<1>(info.param); });
+                         [](const auto& info) { return std::get<0>(info.param)+"_"+testName(std::get<1>(info.param)); });
 
 TEST(ShearWithPositionDerivedForces, AForceTheWrapWouldChangeIsRefusedNamingIt) {
     // Each case: a second force, and the fragments of the refusal (none: accepted).

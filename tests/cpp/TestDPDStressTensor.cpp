@@ -121,7 +121,8 @@ TEST_P(StressTensor, EquilibriumOffDiagonalsAndDissipativePlusRandomVanish) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllSchemes, StressTensor, ::testing::ValuesIn(allSchemes));
+INSTANTIATE_TEST_SUITE_P(AllSchemes, StressTensor, ::testing::ValuesIn(allSchemes),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return testName(info.param); });
 
 TEST(StressTensorBadInput, ForcesTheStressCannotComputeAreNamed) {
     // Bonds, angles and torsions are understood (DPDBondedTerms); charges with PME are not.

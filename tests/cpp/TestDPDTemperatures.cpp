@@ -118,7 +118,7 @@ TEST_P(SmallStep, TemperaturesAreNearTheTarget) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Schemes, SmallStep, ::testing::ValuesIn(allSchemes),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+                         [](const ::testing::TestParamInfo<std::string>& info) { return testName(info.param); });
 
 TEST(StiffFriction, ABOBAStaysAccurateAtGamma450WhereS1DoesNot) {
     // gamma = 450, dt = 0.1 (Shang 2021 Fig. 2 right, Table 4): VV is unstable there (see

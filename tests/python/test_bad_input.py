@@ -19,7 +19,7 @@ T = dpd.REDUCED_TEMPERATURE
     (dict(temperature=-5.0), "temperature = -5 K is out of range"),
     (dict(step_size=0.0), "step size = 0 ps is out of range; it must be > 0"),
     (dict(cutoff=0.0), "cutoff = 0 nm is out of range; it must be > 0"),
-    (dict(scheme="BAOAB"), "unknown scheme 'BAOAB'"),
+    (dict(scheme="OBABO"), "unknown scheme 'OBABO'"),
 ])
 def test_integrator_arguments(kwargs, message):
     arguments = dict(temperature=T, friction=4.5, cutoff=1.0, step_size=0.05, scheme="ABOBA")

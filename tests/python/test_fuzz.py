@@ -49,7 +49,7 @@ def scenarios(draw):
         friction=draw(st.one_of(st.floats(0.0, 500.0), st.just(0.0))),
         cutoff=draw(st.floats(0.2, 1.0)),
         step_size=draw(st.floats(1e-4, 0.2)),
-        scheme=draw(st.sampled_from(["VV", "S1", "ABOBA", "ABOBA"])),
+        scheme=draw(st.sampled_from(list(dpd.SCHEMES) + ["ABOBA"])),
         types=draw(st.lists(st.tuples(st.integers(0, n - 1), st.integers(0, 3)), max_size=4)),
         pairs=draw(st.lists(st.tuples(st.integers(0, 3), st.integers(0, 3), st.floats(0.0, 100.0), st.floats(0.2, 1.0)),
                             max_size=3)),
@@ -70,7 +70,7 @@ def scenarios(draw):
                                       "strength", "poison", "later_friction", "later_cutoff", "scheme", "types", "pairs",
                                       "n_masses"]))
         if field == "scheme":
-            scenario["scheme"] = "BAOAB"
+            scenario["scheme"] = "OBABO"
         elif field == "types":
             scenario["types"] = [(draw(st.integers(-2, n + 5)), draw(st.integers(-1, 3)))]
         elif field == "pairs":
@@ -237,7 +237,7 @@ def sheared_scenarios(draw):
         offset=sometimes(st.sampled_from([0.0, 0.05, -0.1]), st.floats(-0.5, 0.5), 6) * lengths[0],
         tilt=sometimes(st.just(0.0), st.just(0.3), 10),
         integrator=integrator,
-        scheme="ABOBA" if forcing and draw(st.integers(0, 4)) else draw(st.sampled_from(["VV", "S1", "ABOBA"])),
+        scheme="ABOBA" if forcing and draw(st.integers(0, 4)) else draw(st.sampled_from(list(dpd.SCHEMES))),
         friction=draw(st.floats(0.0, 50.0)),
         step_size=draw(st.floats(1e-3, 0.05)),
         shear_rate=sometimes_hostile(st.floats(0.0, 2.0)) if sheared else None,

@@ -21,6 +21,14 @@ namespace OpenMMDPD {
  *           step solved exactly with its reduced mass (eqs. 2.14-2.17), successively over pairs,
  *           one force evaluation per step, at q^{n+1/2}.
  *
+ * and the methods of the paper's discussion (section 4, after Figure 4):
+ *
+ *  - S1-OU  DPD-S1 with the exact OU sweep of ABOBA in place of BBK.
+ *  - BAOAB  B(h/2) A(h/2) O(h) A(h/2) B(h/2): the O sweep at the half-drift positions, whose pairs a
+ *           search of their own finds (the paper: "essentially the same as another force calculation").
+ *  - BAOOAB B(h/2) A(h/2) O(h/2) O(h/2) A(h/2) B(h/2): BAOAB made symmetric, the second O sweep over
+ *           the pairs in the reverse order of the first.
+ *
  * The pairwise dissipative force is -gamma w(r)^2 (e.v) e and the random force sigma w(r) e dW with
  * w(r) = 1 - r/r_c and sigma^2 = 2 gamma kT (eqs. 1.1-1.5).  The friction gamma (amu/ps) and the
  * dissipative cutoff r_c (nm) have defaults and per-type-pair overrides, as in OpenMM's own
@@ -53,7 +61,7 @@ namespace OpenMMDPD {
  */
 class DPDIntegrator : public OpenMM::Integrator {
 public:
-    enum Scheme { VV = 0, S1 = 1, ABOBA = 2 };
+    enum Scheme { VV = 0, S1 = 1, ABOBA = 2, S1ExactOU = 3, BAOAB = 4, BAOOAB = 5 };
     enum ForcingMode { NoForcing = 0, NEMD = 1, Norton = 2 };
     /** Sums over the steps since the last reset: NEMD's response R, Norton's forcing lambda. */
     struct TransportStatistics {
@@ -88,7 +96,7 @@ public:
      * @param scheme           the splitting scheme
      */
     DPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize, Scheme scheme = ABOBA);
-    /** The same, with the scheme given by name: "VV", "S1" or "ABOBA". */
+    /** The same, with the scheme given by name: "VV", "S1", "ABOBA", "S1-OU", "BAOAB" or "BAOOAB". */
     DPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize, const std::string& scheme);
 
     static Scheme schemeFromName(const std::string& name);

@@ -87,6 +87,9 @@ private:
      */
     void sweepBlocksByColor(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
                             const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply);
+    /** A reversed sweep (DPDPairSweep::reversed, BAOOAB's second O) on one thread: the cells of sweep order backwards, each cell's pairs backwards. */
+    void sweepInReverseOrder(CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,
+                             const RunTask& apply);
     /** A small grid's sweep: thread 0 sweeps the pieces in order while the others compute coefficients ahead (CpuDPDSweepPipeline). */
     void sweepSmallGrid(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
                         const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply);

@@ -118,6 +118,26 @@ void CpuDPDPairEngine::sweepBlocksByColor(int thread, CpuDPDPairUpdateBlock::Kin
     }
 }
 
+void CpuDPDPairEngine::sweepInReverseOrder(CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
+                                           const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply) {
+    // The sweep order backwards, cell by cell: the reverse of colour-major order; apply sweeps each
+    // cell's pairs backwards.  Blocks of one colour share no particle, so this is the forward sweep's
+    // sequence of updates reversed, whatever the thread count of the forward one.
+    CpuDPDPairUpdateBlock& block = blocks[0];
+    for (int k = grid.getNumCells()-1; k >= 0; k--) {
+        int cell = grid.cellsInSweepOrder[k], begin = cellPairBegin[cell], end = cellPairEnd[cell];
+        if (begin == end)
+            continue;
+        const PairBuffer& pairs = buffers[cellBuffer[cell]];
+        block.compute(kind, sweep, particles, end-begin, &pairs.i[begin], &pairs.j[begin]);
+        PairRun runs[numStreams];
+        runs[0] = PairRun{{k, k+1, begin, end, cellBuffer[cell]}, &block};
+        for (int stream = 1; stream < numStreams; stream++)
+            runs[stream] = PairRun{{0, 0, 0, 0, 0}, &block};
+        apply(0, runs);
+    }
+}
+
 void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                                     const RunTask& apply, const ScatterTask& scatter) {
     int numParticles = static_cast<int>(grid.sortedToOriginal.size());
@@ -135,7 +155,7 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
     }
     threads.run([&](int thread) {
         int firstParticle = threads.particleRangeBegin(thread, numParticles), lastParticle = threads.particleRangeBegin(thread+1, numParticles);
-        if (search.isSmallGrid()) { // the sweeping thread gathers and scatters every particle: its velocities stay in its cache
+        if (search.isSmallGrid() || sweep.reversed) { // the sweeping thread gathers and scatters every particle: its velocities stay in its cache
             firstParticle = 0;
             lastParticle = thread == 0 ? numParticles : 0;
         }
@@ -150,6 +170,16 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
                                                    sortedInverseMass.data(), grid.sortedX.data(), grid.sortedY.data(), grid.sortedZ.data(),
                                                    grid.getBoxVectors()};
         gather(firstParticle, lastParticle);
+        if (sweep.reversed) { // one sequence: thread 0 sweeps it
+            if (!uniform)
+                threads.wait();
+            if (thread == 0) {
+                sweepInReverseOrder(kind, sweep, particles, apply);
+                for (int locating = 0; locating < threads.getNumThreads(); locating++)
+                    scatter(locating);
+            }
+            return;
+        }
         if (search.isSmallGrid()) {
             if (!uniform) // the coefficients read the sorted types and masses
                 threads.wait();
@@ -192,13 +222,16 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
                 sortedResponse[s] = (*response)[original[s]];
     };
     // With shear, stress or Norton: cell by cell (the stress and Norton's response are summed per cell).
-    auto sweepCell = [&](auto uniform, const PairBuffer& pairs, int cell, int first, int last, const CpuDPDPairUpdateBlock& block, int blockStart) {
+    // backwards: the cell's pairs in reverse order (a reversed sweep, sweepInReverseOrder).
+    auto sweepCell = [&](auto uniform, auto backwards, const PairBuffer& pairs, int cell, int first, int last, const CpuDPDPairUpdateBlock& block,
+                         int blockStart) {
         const double* inverseMass = sortedInverseMass.data();
         const double uniformInverseMass = this->uniformInverseMass;
         DPDPairStressSums sums; // summed in registers, stored once
         double responseOfDissipation = 0.0;
         Vec3* velocity = sortedVelocities.data();
-        for (int k = first; k < last; k++) {
+        for (int step = first; step < last; step++) {
+            int k = decltype(backwards)::value ? first+last-1-step : step;
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
             double u = e.dot(velocity[a]-velocity[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
@@ -214,7 +247,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
         cellResponse[cell] = responseOfDissipation;
     };
     // Without shear or Norton the hot loop; with stress it records each pair's u for the stress (the same arithmetic).
-    bool plain = sweep.shearRate == 0.0 && response == nullptr;
+    bool plain = sweep.shearRate == 0.0 && response == nullptr && !sweep.reversed;
     auto apply = [&](int, const PairRun* runs) {
         if (plain) {
             CpuDPDSuccessiveSweep::Run sweepRuns[numStreams];
@@ -238,10 +271,15 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             for (int k = runs[run].cellBegin; k < runs[run].cellEnd; k++) {
                 int cell = grid.cellsInSweepOrder[k];
                 const PairBuffer& pairs = buffers[runs[run].buffer];
-                if (uniformSweep)
-                    sweepCell(std::true_type(), pairs, cell, cellPairBegin[cell], cellPairEnd[cell], *runs[run].block, runs[run].pairBegin);
+                int first = cellPairBegin[cell], last = cellPairEnd[cell], blockStart = runs[run].pairBegin;
+                if (sweep.reversed && uniformSweep)
+                    sweepCell(std::true_type(), std::true_type(), pairs, cell, first, last, *runs[run].block, blockStart);
+                else if (sweep.reversed)
+                    sweepCell(std::false_type(), std::true_type(), pairs, cell, first, last, *runs[run].block, blockStart);
+                else if (uniformSweep)
+                    sweepCell(std::true_type(), std::false_type(), pairs, cell, first, last, *runs[run].block, blockStart);
                 else
-                    sweepCell(std::false_type(), pairs, cell, cellPairBegin[cell], cellPairEnd[cell], *runs[run].block, runs[run].pairBegin);
+                    sweepCell(std::false_type(), std::false_type(), pairs, cell, first, last, *runs[run].block, blockStart);
             }
     };
     auto scatter = [&](int thread) {

@@ -47,7 +47,8 @@ public:
     DPDFusionSupport fusionSupport() const override;
     bool useForcesOfPreviousStep(bool withPairs) override;
     void storeForces() override;
-    void evaluateForces(bool keepForces) override;
+    void evaluateForces(bool keepForces, bool needPairs) override;
+    void findPairs() override;
     int drift(double dt, int times, double kickDt, bool* velocitiesFinite) override;
     bool kick(double dt, bool keepForces) override;
     double sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep, bool response) override;
@@ -80,7 +81,7 @@ private:
     /** The parameters of a pair sweep (each sweep draws new random numbers). */
     DPDPairSweep pairSweep(const DPDSweepRequest& sweep) {
         return {friction, inverseMasses, uniformInverseMass, kT, sweep.dt, sweep.randomKey, leesEdwards.getShearRate(),
-                accumulateStress && sweep.gatherStress ? &stepPairStress : nullptr};
+                accumulateStress && sweep.gatherStress ? &stepPairStress : nullptr, sweep.reversed};
     }
     /** The latest forces: the Context's, or the copy stored for the next step. */
     std::vector<OpenMM::Vec3>& latestForces();

@@ -58,6 +58,8 @@ struct DPDPairSweep {
     std::uint64_t randomKey;
     double shearRate = 0.0;
     DPDPairStressSums* stress = nullptr;
+    /** Sweep the pairs in the reverse of the engine's order (BAOOAB's second O sweep); the O and BBK sweeps only. */
+    bool reversed = false;
 };
 
 /**

@@ -283,7 +283,7 @@ void DPDHostStepBackend::applyFrictionTableChanges(const DPDIntegrator& integrat
     pairsAtCurrentPositions = nullptr;    // S1's stored pairs may not reach a larger cutoff
 }
 
-void DPDHostStepBackend::evaluateForces(bool keepForces) {
+void DPDHostStepBackend::evaluateForces(bool keepForces, bool needPairs) {
     long long evaluationsBefore = sharedForceKernel ? sharedForceKernel->getEvaluationCount() : 0;
     keepForces &= fusionSupport().keepForcesForKicks; // only in the direct evaluation (the first goes through the Context)
     state.storedForcesValid = false; // they belong to other positions now
@@ -319,15 +319,20 @@ void DPDHostStepBackend::evaluateForces(bool keepForces) {
     else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore &&
              sharedForceKernel->getPairEngine().getRadius() >= friction.maxCutoff) // its cutoff may have changed since
         pairsAtCurrentPositions = &sharedForceKernel->getPairEngine();
-    else {
-        ContextArrays current = arrays();
-        DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, current.box);
-        ownEngine->findPairs(current.positions, current.box, friction.maxCutoff, nullptr, nullptr);
-        pairsAtCurrentPositions = ownEngine.get();
-    }
+    else if (needPairs)
+        findPairs();
+    else
+        pairsAtCurrentPositions = nullptr; // no sweep at these positions (BAOAB): no search
     forcesKept = keepForces;
     if (keepForces && pairsAtCurrentPositions != forceKeepingEngine)
         latestForces(); // the O sweep is another engine's: the forces go to the Context
+}
+
+void DPDHostStepBackend::findPairs() {
+    ContextArrays current = arrays();
+    DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, current.box);
+    ownEngine->findPairs(current.positions, current.box, friction.maxCutoff, nullptr, nullptr);
+    pairsAtCurrentPositions = ownEngine.get();
 }
 
 bool DPDHostStepBackend::kick(double dt, bool keepForces) {

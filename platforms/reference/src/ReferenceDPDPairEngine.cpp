@@ -51,8 +51,11 @@ double ReferenceDPDPairEngine::findPairs(const std::vector<Vec3>& positions, con
 template <class Visitor>
 void ReferenceDPDPairEngine::sweepDissipativePairs(const DPDPairSweep& sweep, Visitor&& visit) const {
     // Pairs are visited one after another: each update sees the velocities left by the previous
-    // ones (the successive sweep of eq. 2.10; any order is valid, Shang 2021 sec. 2.3).
-    for (const DPDPair& pair : pairs.pairs) {
+    // ones (the successive sweep of eq. 2.10; any order is valid, Shang 2021 sec. 2.3), in the list's
+    // order or, reversed (BAOOAB's second O), in its reverse.
+    std::size_t count = pairs.pairs.size();
+    for (std::size_t n = 0; n < count; n++) {
+        const DPDPair& pair = pairs.pairs[sweep.reversed ? count-1-n : n];
         int ti = sweep.friction.particleTypeIndex[pair.i], tj = sweep.friction.particleTypeIndex[pair.j];
         double cutoff = sweep.friction.cutoffOf(ti, tj);
         double gamma = sweep.friction.valueOf(ti, tj);

@@ -46,7 +46,9 @@ private:
     void runProgram(const std::vector<DPDStepOperation>& program, bool moreStepsFollow);
     void execute(const DPDStepOperation& operation, const DPDFusedOperation& fused, int stepOffset);
     void executeFused(const std::vector<DPDStepOperation>& program, const DPDFusedOperation& fused);
-    DPDSweepRequest sweepRequest(const DPDStepOperation& sweep) { return {sweep.fraction*stepSize, state.nextSweepKey(), sweep.flag}; }
+    DPDSweepRequest sweepRequest(const DPDStepOperation& sweep) {
+        return {sweep.fraction*stepSize, state.nextSweepKey(), sweep.flag, sweep.reversed};
+    }
     /** Norton: F.G must not vanish (controllability, Wu & Shang after eq. 13). */
     double requireControllable(double forcingDotResponse) const;
     [[noreturn]] void throwNonFinite(const char* what, int particle, int stepOffset) const;

@@ -14,6 +14,7 @@ struct DPDSweepRequest {
     double dt;
     std::uint64_t randomKey;
     bool gatherStress; // add the sweep's pair stress sums to the step's sample (when stress is accumulated)
+    bool reversed = false; // over the pairs in the reverse of the platform's sweep order
 };
 
 /**
@@ -55,8 +56,13 @@ public:
     virtual bool useForcesOfPreviousStep(bool withPairs) = 0;
     /** Keep a copy of the latest forces for the next step (ForcesAtStart). */
     virtual void storeForces() = 0;
-    /** Evaluate the forces and find the dissipative pairs at the current positions; keepForces: in the pair engine (DPDFusionSupport). */
-    virtual void evaluateForces(bool keepForces) = 0;
+    /**
+     * Evaluate the forces at the current positions, and with needPairs find the dissipative pairs there
+     * for a sweep; keepForces: leave the forces in the pair engine (DPDFusionSupport).
+     */
+    virtual void evaluateForces(bool keepForces, bool needPairs) = 0;
+    /** Find the dissipative pairs at the current positions, without forces (FindPairs). */
+    virtual void findPairs() = 0;
 
     /** A(dt) `times` times, after B(kickDt) when kickDt != 0; returns the first unsound particle or -1 (*velocitiesFinite: after the kick). */
     virtual int drift(double dt, int times, double kickDt, bool* velocitiesFinite) = 0;

@@ -16,8 +16,10 @@ struct DPDStepOperation {
         Drift,
         /** B(f h): v += f h F/m with the forces of the latest evaluation (eq. 2.5b). */
         Kick,
-        /** The Context's forces at the current positions, and the pairs closer than the dissipative cutoff. */
+        /** The Context's forces at the current positions, and (flag) the pairs closer than the dissipative cutoff for a sweep there. */
         EvaluateForces,
+        /** The pairs closer than the dissipative cutoff at the current positions, without forces (BAOAB's O at the half-drift positions). */
+        FindPairs,
         /** O(f h) of ABOBA: the successive pairwise exact Ornstein-Uhlenbeck sweep (eqs. 2.14-2.17, 2.22). */
         OrnsteinUhlenbeckSweep,
         /** O(f h) of DPD-S1: Shardlow's successive pairwise BBK sweep (eq. 2.12). */
@@ -47,8 +49,11 @@ struct DPDStepOperation {
     /**
      * Kick: keep a copy of the forces for the next step's start (S1 and VV).  NortonProjection: its
      * multiplier counts in lambda.  Sweeps: add the pair stress sums to the step's sample.
+     * EvaluateForces: a sweep uses the pairs at these positions.  ForcesAtStart: also the pairs (S1).
      */
     bool flag = false;
+    /** Sweeps: over the pairs in the reverse of the platform's sweep order (BAOOAB's second O). */
+    bool reversed = false;
 
     static DPDStepOperation of(Kind kind, double fraction, const char* equation, bool flag = false) {
         DPDStepOperation operation{kind};

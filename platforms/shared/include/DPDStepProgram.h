@@ -16,10 +16,13 @@ namespace OpenMMDPD {
  *   DPD-S1 (eqs. 2.9-2.13):         [forces and pairs at q^n]  O_BBK(h)  B(h/2) A(h)  F(q^{n+1})  B(h/2)
  *   ABOBA (eqs. 2.18-2.24):         A(h/2)  F(q^{n+1/2})  B(h/2) O(h) B(h/2)  A(h/2)
  *   ABOBA-Norton (Wu & Shang 52-70): ABOBA with a projection onto G.p = r after every sub-step
+ *   S1-OU:                          DPD-S1 with ABOBA's exact OU sweep in place of BBK
+ *   BAOAB:                          [forces at q^n]  B(h/2) A(h/2)  pairs(q^{n+1/2})  O(h)  A(h/2)  F(q^{n+1})  B(h/2)
+ *   BAOOAB:                         BAOAB with O(h/2) O(h/2), the second over the pairs in reverse order
  *
  * NEMD inserts its forcing impulse beside each kick (Wu & Shang eq. 6) and samples the response at the
- * step's end; Lees-Edwards shear inserts the image offset at the time of each force evaluation (ABOBA
- * t + h/2, S1 and VV t + h) and the wrap at t + h; a scene at zero friction has no O sweep (and draws
+ * step's end; Lees-Edwards shear inserts the image offset at the time of each force evaluation or pair
+ * search (ABOBA, BAOAB's O: t + h/2; S1, VV: t + h) and the wrap at t + h; a scene at zero friction has no O sweep (and draws
  * no random numbers).  What a step leaves out, it does not pay for.
  */
 class DPDStepProgram {

@@ -71,8 +71,8 @@ void DPDSplittingDynamics::execute(const DPDStepOperation& operation, const DPDF
     double dt = operation.fraction*stepSize;
     switch (operation.kind) {
     case Op::ForcesAtStart:
-        if (!backend->useForcesOfPreviousStep(scheme == DPDIntegrator::S1)) {
-            backend->evaluateForces(false);
+        if (!backend->useForcesOfPreviousStep(operation.flag)) {
+            backend->evaluateForces(false, operation.flag || scheme == DPDIntegrator::VV); // VV's F^D + F^R need the pairs
             backend->storeForces();
             if (scheme == DPDIntegrator::VV && !programOptions.frictionless)
                 backend->addDissipativeAndRandomForces({stepSize, state.nextSweepKey(), false}); // eq. 2.3's F^D + F^R at (q^n, p^n)
@@ -87,7 +87,10 @@ void DPDSplittingDynamics::execute(const DPDStepOperation& operation, const DPDF
             throwNonFinite("velocities", -1, stepOffset);
         return;
     case Op::EvaluateForces:
-        backend->evaluateForces(fused.keepForces);
+        backend->evaluateForces(fused.keepForces, operation.flag);
+        return;
+    case Op::FindPairs:
+        backend->findPairs();
         return;
     case Op::OrnsteinUhlenbeckSweep:
         responseOfDissipation = backend->sweepOrnsteinUhlenbeck(sweepRequest(operation), programOptions.forcing == DPDIntegrator::Norton);

@@ -26,7 +26,7 @@ int DPDStepFusion::sweepBetweenKicks(const std::vector<Op>& program, int positio
         return 0; // a kick that keeps its forces for the next step cannot give them up within the step
     const Op* sweep = at(program, k, support);
     const Op* second = at(program, k+1, support);
-    if (sweep == nullptr || !sweep->isSweep() || second == nullptr || second->kind != Op::Kick || second->flag ||
+    if (sweep == nullptr || !sweep->isSweep() || sweep->reversed || second == nullptr || second->kind != Op::Kick || second->flag ||
         second->fraction != first->fraction)
         return 0;
     return k+2-position;

@@ -10,26 +10,27 @@ using Op = DPDStepOperation;
 Op op(Op::Kind kind, double fraction, const char* equation, bool flag = false) { return Op::of(kind, fraction, equation, flag); }
 
 void velocityVerlet(std::vector<Op>& program, const DPDStepProgram::Options& options) {
-    program.push_back(op(Op::ForcesAtStart, 0.0, "2.3 (the previous step's F^C + F^D + F^R)"));
+    program.push_back(op(Op::ForcesAtStart, 0.0, "2.3 (the previous step's F^C + F^D + F^R)", false));
     program.push_back(op(Op::Kick, 0.5, "2.3a"));
     program.push_back(op(Op::Drift, 1.0, "2.3b"));
     if (options.sheared)
         program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h)"));
-    program.push_back(op(Op::EvaluateForces, 0.0, "2.2a (at q^{n+1})"));
+    program.push_back(op(Op::EvaluateForces, 0.0, "2.2a (at q^{n+1})", !options.frictionless));
     if (!options.frictionless)
         program.push_back(op(Op::DissipativeAndRandomForces, 1.0, "2.2b, 2.2c (at q^{n+1}, p^{n+1/2})", true));
     program.push_back(op(Op::Kick, 0.5, "2.3c", true)); // kept for the next step's eq. 2.3a
 }
 
-void shardlowS1(std::vector<Op>& program, const DPDStepProgram::Options& options) {
-    program.push_back(op(Op::ForcesAtStart, 0.0, "2.13 (the previous step's F^C and pairs)"));
+/** DPD-S1, with Shardlow's BBK sweep or (exactOU, "S1-OU") ABOBA's exact OU sweep (sec. 4, after Figure 4). */
+void shardlowS1(std::vector<Op>& program, const DPDStepProgram::Options& options, bool exactOU) {
+    program.push_back(op(Op::ForcesAtStart, 0.0, "2.13 (the previous step's F^C and pairs)", true));
     if (!options.frictionless)
-        program.push_back(op(Op::BBKSweep, 1.0, "2.12", true));
+        program.push_back(exactOU ? op(Op::OrnsteinUhlenbeckSweep, 1.0, "2.14-2.17 in place of 2.12", true) : op(Op::BBKSweep, 1.0, "2.12", true));
     program.push_back(op(Op::Kick, 0.5, "2.13a"));
     program.push_back(op(Op::Drift, 1.0, "2.13b"));
     if (options.sheared)
         program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h)"));
-    program.push_back(op(Op::EvaluateForces, 0.0, "2.13c (at q^{n+1}, reused next step)"));
+    program.push_back(op(Op::EvaluateForces, 0.0, "2.13c (at q^{n+1}, reused next step)", !options.frictionless));
     program.push_back(op(Op::Kick, 0.5, "2.13c", true)); // kept for the next step's eq. 2.13a
 }
 
@@ -38,7 +39,7 @@ void aboba(std::vector<Op>& program, const DPDStepProgram::Options& options) {
     program.push_back(op(Op::Drift, 0.5, "2.19"));
     if (options.sheared)
         program.push_back(op(Op::MoveImages, 0.5, "3.2 (offset at t + h/2)"));
-    program.push_back(op(Op::EvaluateForces, 0.0, "2.20 (the one evaluation, at q^{n+1/2})"));
+    program.push_back(op(Op::EvaluateForces, 0.0, "2.20 (the one evaluation, at q^{n+1/2})", !options.frictionless));
     if (nemd)
         program.push_back(op(Op::EvaluateForcingField, 0.0, "WS 6 (F at q^{n+1/2})"));
     program.push_back(op(Op::Kick, 0.5, "2.20"));
@@ -58,12 +59,41 @@ void aboba(std::vector<Op>& program, const DPDStepProgram::Options& options) {
     }
 }
 
+/**
+ * BAOAB for DPD (Shang 2021 sec. 2.3's construction, discussed after Figure 4): B(h/2) A(h/2) O(h)
+ * A(h/2) B(h/2), the O sweep over the pairs at the half-drift positions, which a search of their own
+ * finds; symmetric (BAOOAB): O(h/2) twice, the second over the pairs in the reverse order.
+ */
+void baoab(std::vector<Op>& program, const DPDStepProgram::Options& options, bool symmetric) {
+    program.push_back(op(Op::ForcesAtStart, 0.0, "BAOAB (the previous step's F)", false));
+    program.push_back(op(Op::Kick, 0.5, "BAOAB B(h/2)"));
+    program.push_back(op(Op::Drift, 0.5, "BAOAB A(h/2)"));
+    if (options.sheared)
+        program.push_back(op(Op::MoveImages, 0.5, "3.2 (offset at t + h/2)"));
+    if (!options.frictionless) {
+        program.push_back(op(Op::FindPairs, 0.0, "BAOAB (pairs at q^{n+1/2})"));
+        if (symmetric) {
+            program.push_back(op(Op::OrnsteinUhlenbeckSweep, 0.5, "BAOOAB O(h/2), 2.14-2.17", true));
+            Op reversed = op(Op::OrnsteinUhlenbeckSweep, 0.5, "BAOOAB O(h/2), the pairs in reverse order", true);
+            reversed.reversed = true;
+            program.push_back(reversed);
+        }
+        else
+            program.push_back(op(Op::OrnsteinUhlenbeckSweep, 1.0, "BAOAB O(h), 2.14-2.17", true));
+    }
+    program.push_back(op(Op::Drift, 0.5, "BAOAB A(h/2)"));
+    if (options.sheared)
+        program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h, wrap)"));
+    program.push_back(op(Op::EvaluateForces, 0.0, "BAOAB (at q^{n+1}, reused next step)", false));
+    program.push_back(op(Op::Kick, 0.5, "BAOAB B(h/2)", true)); // kept for the next step's first B(h/2)
+}
+
 /** Wu & Shang's ABOBA-Norton: each projection sets G.p = r after its sub-step; lambda sums the multipliers. */
 void abobaNorton(std::vector<Op>& program, const DPDStepProgram::Options& options) {
     program.push_back(op(Op::Drift, 0.5, "WS 52"));
     program.push_back(op(Op::EvaluateForcingField, 0.0, "WS 53 (F.G at q^{n+1/2})"));
     program.push_back(op(Op::NortonProjection, 0.0, "WS 53, 54", true));
-    program.push_back(op(Op::EvaluateForces, 0.0, "WS 55 (at q^{n+1/2})"));
+    program.push_back(op(Op::EvaluateForces, 0.0, "WS 55 (at q^{n+1/2})", !options.frictionless));
     program.push_back(op(Op::Kick, 0.5, "WS 55"));
     program.push_back(op(Op::NortonProjection, 0.0, "WS 56, 57", true));
     if (!options.frictionless) {
@@ -85,6 +115,7 @@ const char* kindName(Op::Kind kind) {
     case Op::Drift: return "A";
     case Op::Kick: return "B";
     case Op::EvaluateForces: return "force evaluation";
+    case Op::FindPairs: return "pair search";
     case Op::OrnsteinUhlenbeckSweep: return "O (exact OU sweep)";
     case Op::BBKSweep: return "O (BBK sweep)";
     case Op::DissipativeAndRandomForces: return "F^D + F^R";
@@ -112,8 +143,10 @@ std::vector<DPDStepOperation> DPDStepProgram::of(const Options& options) {
     std::vector<Op> program;
     if (options.scheme == DPDIntegrator::VV)
         velocityVerlet(program, options);
-    else if (options.scheme == DPDIntegrator::S1)
-        shardlowS1(program, options);
+    else if (options.scheme == DPDIntegrator::S1 || options.scheme == DPDIntegrator::S1ExactOU)
+        shardlowS1(program, options, options.scheme == DPDIntegrator::S1ExactOU);
+    else if (options.scheme == DPDIntegrator::BAOAB || options.scheme == DPDIntegrator::BAOOAB)
+        baoab(program, options, options.scheme == DPDIntegrator::BAOOAB);
     else if (options.forcing == DPDIntegrator::Norton)
         abobaNorton(program, options);
     else
@@ -127,7 +160,7 @@ std::string DPDStepProgram::describe(const std::vector<DPDStepOperation>& progra
         text << kindName(operation.kind);
         if (operation.fraction != 0.0)
             text << "(" << operation.fraction << " h)";
-        text << "  eq. " << operation.equation << "\n";
+        text << (operation.reversed ? " reversed" : "") << "  eq. " << operation.equation << "\n";
     }
     return text.str();
 }
