@@ -37,18 +37,23 @@ from typing import Dict, List, Optional, Tuple
 
 HERE = Path(__file__).resolve().parent
 OURS = ["ABOBA", "VV", "S1"]
+# The paper's other methods (Shang 2021 after Figure 4), timed against ABOBA: its claim that BAOAB costs
+# almost twice ABOBA's step, with a pair search far cheaper than theirs relative to the sweep.
+PAPER_METHODS = ["S1-OU", "BAOAB", "BAOOAB"]
 LAMMPS = ["LAMMPS-VV", "LAMMPS-Shardlow"]
 # Rough microseconds per particle-step, to give each run about `seconds` of stepping.
 CUSTOM = ["ABOBA-CustomNonbonded", "OpenMM-Verlet-CustomNonbonded"]
 # What DPD users add to a plain step (issue targets: bonded forces <= 1.15x, stress accumulation <= 1.3x).
 ADDED = ["ABOBA-bonded", "ABOBA-custombonded", "ABOBA-stress", "VV-stress", "S1-stress"]
 ADDED_SIZES = (4000, 32000)
-GUESS = {"ABOBA-bonded": 0.3, "ABOBA-custombonded": 0.9, "ABOBA-stress": 0.3, "VV-stress": 0.3, "S1-stress": 0.3, "ABOBA": 0.25, "VV": 0.25, "S1": 0.25, "OpenMM-DPD": 12.0, "ABOBA-CustomNonbonded": 3.0, "OpenMM-Verlet-CustomNonbonded": 2.6, "OpenMM-arrays": 0.05, "LAMMPS-VV": 1.4, "LAMMPS-Shardlow": 2.8}
+GUESS = {"S1-OU": 0.3, "BAOAB": 0.4, "BAOOAB": 0.6, "ABOBA-bonded": 0.3, "ABOBA-custombonded": 0.9, "ABOBA-stress": 0.3, "VV-stress": 0.3, "S1-stress": 0.3, "ABOBA": 0.25, "VV": 0.25, "S1": 0.25, "OpenMM-DPD": 12.0, "ABOBA-CustomNonbonded": 3.0, "OpenMM-Verlet-CustomNonbonded": 2.6, "OpenMM-arrays": 0.05, "LAMMPS-VV": 1.4, "LAMMPS-Shardlow": 2.8}
 LEGEND = {
     "ABOBA": "openmmdpd DPDIntegrator scheme ABOBA + DPDForce (CPU platform)",
     "VV": "openmmdpd DPDIntegrator scheme VV + DPDForce (CPU platform)",
     "S1": "openmmdpd DPDIntegrator scheme S1 (Shardlow) + DPDForce (CPU platform)",
     "OpenMM-DPD": "OpenMM's built-in openmm.DPDIntegrator, soft force as a CustomNonbondedForce (CPU platform)",
+    "S1-OU": "openmmdpd DPD-S1 with the exact OU sweep; BAOAB: B A O A B, its O sweep over a pair search of its own; "
+             "BAOOAB: O(h/2) twice, the second in reverse pair order (one thread for the reversed sweep)",
     "ABOBA-CustomNonbonded": "openmmdpd ABOBA, soft force as an OpenMM CustomNonbondedForce (CPU platform)",
     "OpenMM-Verlet-CustomNonbonded": "OpenMM's VerletIntegrator, same step, the same CustomNonbondedForce alone (CPU platform)",
     "OpenMM-arrays": "an OpenMM Context with no force and a VerletIntegrator: OpenMM's own arrays (memory baseline)",
@@ -113,7 +118,7 @@ def configurations(sizes: List[int], threads: List[int], with_lammps: bool, open
     configs = []
     for n in sizes:
         for t in threads:
-            methods = OURS + (["OpenMM-DPD"] + CUSTOM if n <= openmm_dpd_max else []) + (LAMMPS if with_lammps else [])
+            methods = OURS + PAPER_METHODS + (["OpenMM-DPD"] + CUSTOM if n <= openmm_dpd_max else []) + (LAMMPS if with_lammps else [])
             methods += ADDED if n in ADDED_SIZES else []
             configs += [(m, n, t) for m in methods]
         # OpenMM's own arrays, with as many threads as the runs they are the baseline of: its CPU
@@ -212,6 +217,14 @@ def report(configs, samples, args, loads, elapsed) -> List[str]:
                 lines.append(f"| {n} | {t} | {ratio(('ABOBA', n, t), ('ABOBA-bonded', n, t))} | {ratio(('ABOBA', n, t), ('ABOBA-custombonded', n, t))} | "
                              f"{ratio(('ABOBA', n, t), ('ABOBA-stress', n, t))} | "
                              f"{ratio(('VV', n, t), ('VV-stress', n, t))} | {ratio(('S1', n, t), ('S1-stress', n, t))} |")
+    lines += ["", "The paper's other methods, time per step ÷ ABOBA's (the paper: BAOAB almost 2):", "",
+              "| N | threads | S1-OU ÷ ABOBA | BAOAB ÷ ABOBA | BAOOAB ÷ ABOBA | S1-OU ÷ S1 |", "|---|---|---|---|---|---|"]
+    for n in args.sizes:
+        for t in args.threads:
+            if any((m, n, t) in per_particle for m in PAPER_METHODS):
+                a = ("ABOBA", n, t)
+                lines.append(f"| {n} | {t} | {ratio(a, ('S1-OU', n, t))} | {ratio(a, ('BAOAB', n, t))} | {ratio(a, ('BAOOAB', n, t))} | "
+                             f"{ratio(('S1', n, t), ('S1-OU', n, t))} |")
     if args.baseline:
         lines += ["", f"This build against the baseline build ({args.baseline}), run right after each other in every round: "
                   "time of this build ÷ time of the baseline (below 1: this build is faster):", "",
