@@ -4,7 +4,9 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
 #include <cmath>
+#include <iterator>
 #include <sstream>
+#include <utility>
 
 using namespace OpenMMDPD;
 using OpenMM::OpenMMException;
@@ -20,34 +22,37 @@ DPDIntegrator::DPDIntegrator(double temperature, double defaultFriction, double 
 DPDIntegrator::DPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize, const std::string& scheme)
     : DPDIntegrator(temperature, defaultFriction, defaultCutoff, stepSize, schemeFromName(scheme)) {}
 
+namespace {
+/** Every scheme and its name, in enum order: the one list schemeFromName and schemeName read. */
+const std::pair<DPDIntegrator::Scheme, const char*> schemeNames[] = {
+    {DPDIntegrator::VV, "VV"},       {DPDIntegrator::S1, "S1"},       {DPDIntegrator::ABOBA, "ABOBA"},
+    {DPDIntegrator::S1ExactOU, "S1-OU"}, {DPDIntegrator::BAOAB, "BAOAB"}, {DPDIntegrator::BAOOAB, "BAOOAB"}};
+
+std::string listOfSchemes(bool withNumbers) {
+    std::stringstream list;
+    for (std::size_t k = 0; k < std::size(schemeNames); k++) {
+        list << (k == 0 ? "" : k+1 == std::size(schemeNames) ? " and " : ", ") << (withNumbers ? "" : "\"") << schemeNames[k].second
+             << (withNumbers ? "" : "\"");
+        if (withNumbers)
+            list << " (" << static_cast<int>(schemeNames[k].first) << ")";
+    }
+    return list.str();
+}
+} // namespace
+
 DPDIntegrator::Scheme DPDIntegrator::schemeFromName(const std::string& name) {
-    if (name == "VV")
-        return VV;
-    if (name == "S1")
-        return S1;
-    if (name == "ABOBA")
-        return ABOBA;
-    if (name == "S1-OU")
-        return S1ExactOU;
-    if (name == "BAOAB")
-        return BAOAB;
-    if (name == "BAOOAB")
-        return BAOOAB;
-    throw OpenMMException("DPDIntegrator: unknown scheme '"+name+"'; the schemes are \"VV\", \"S1\", \"ABOBA\", \"S1-OU\", \"BAOAB\" "
-                          "and \"BAOOAB\"");
+    for (const auto& [scheme, schemeText] : schemeNames)
+        if (name == schemeText)
+            return scheme;
+    throw OpenMMException("DPDIntegrator: unknown scheme '"+name+"'; the schemes are "+listOfSchemes(false));
 }
 
 std::string DPDIntegrator::schemeName(Scheme scheme) {
-    switch (scheme) {
-        case VV: return "VV";
-        case S1: return "S1";
-        case ABOBA: return "ABOBA";
-        case S1ExactOU: return "S1-OU";
-        case BAOAB: return "BAOAB";
-        case BAOOAB: return "BAOOAB";
-    }
+    for (const auto& [each, schemeText] : schemeNames)
+        if (each == scheme)
+            return schemeText;
     std::stringstream message;
-    message << "DPDIntegrator: unknown scheme " << static_cast<int>(scheme) << "; the schemes are VV (0), S1 (1), ABOBA (2), S1-OU (3), BAOAB (4) and BAOOAB (5)";
+    message << "DPDIntegrator: unknown scheme " << static_cast<int>(scheme) << "; the schemes are " << listOfSchemes(true);
     throw OpenMMException(message.str());
 }
 

@@ -60,8 +60,11 @@ private:
     static const DPDStepOperation* at(const std::vector<DPDStepOperation>& program, int position, const DPDFusionSupport& support);
     /** Kick, sweep, kick of one length from `position` on (across a step's end, skipping the satisfied ForcesAtStart): their span, or 0. */
     static int sweepBetweenKicks(const std::vector<DPDStepOperation>& program, int position, const DPDFusionSupport& support);
-    /** [F^D + F^R] then the step's closing kick from `position` on: its span, or 0; *nextKick: the next step's opening kick follows. */
-    static int closingKick(const std::vector<DPDStepOperation>& program, int position, const DPDFusionSupport& support, int* span);
+    /**
+     * [F^D + F^R] then the step's closing kick from `position` on: its span, or 0; *kicks: 2 when the
+     * next step's opening kick joins it (across the step's end), else 1.
+     */
+    static int closingKick(const std::vector<DPDStepOperation>& program, int position, const DPDFusionSupport& support, int* kicks);
 };
 
 } // namespace OpenMMDPD
