@@ -62,6 +62,19 @@ def test_the_soft_fluid_scenes_cover_the_papers_frictions():
     assert frictions == {4.5, 40.5, 200.0, 450.0}
 
 
+def test_the_soft_fluid_scenes_run_the_papers_other_methods_with_their_schemes():
+    # Shang 2021 after Figure 4: S1 with the exact OU sweep, BAOAB and BAOOAB, beside VV, S1 and ABOBA at
+    # every friction of the paper; each label builds the integrator of its own scheme.
+    for path in SCENES:
+        scene = load_scene(path)
+        if scene.system["kind"] != "soft_fluid" or scene.shear_rate > 0:
+            continue
+        assert {"VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB"} <= set(scene.methods), path
+        for method in ("S1-OU", "BAOAB", "BAOOAB"):
+            integrator = dpd.DPDIntegrator.cast(scene.integrator(method, 0.02, seed=3))
+            assert integrator.getScheme() == method
+
+
 def test_lj_fluid_is_c1_truncated_and_on_a_lattice():
     system, positions = dpd.lj_fluid(num_particles=500, density=0.85, cutoff=2.5)
     box = system.getDefaultPeriodicBoxVectors()[0][0].value_in_unit(mm.unit.nanometer)

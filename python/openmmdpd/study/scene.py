@@ -16,7 +16,7 @@ import tomllib  # Python >= 3.11, as pyproject.toml requires
 
 #: Methods a scene may name: the plugin's schemes with the scene's own conservative force, ABOBA with
 #: the soft force written as an OpenMM CustomNonbondedForce, and OpenMM's built-in DPDIntegrator.
-METHODS = ("VV", "S1", "ABOBA", "ABOBA-CustomNonbonded", "OpenMM-DPD")
+METHODS = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB", "ABOBA-CustomNonbonded", "OpenMM-DPD")
 #: What each method label means (the report's legend).
 METHOD_DESCRIPTIONS = {
     "VV": "openmmdpd.DPDIntegrator, scheme VV (velocity Verlet, dissipative and random forces reused; "
@@ -25,6 +25,12 @@ METHOD_DESCRIPTIONS = {
           "eqs. 2.9-2.13), with the scene's conservative force",
     "ABOBA": "openmmdpd.DPDIntegrator, scheme ABOBA (exact pairwise Ornstein-Uhlenbeck sweep; eqs. 2.18-2.24), "
              "with the scene's conservative force",
+    "S1-OU": "openmmdpd.DPDIntegrator, scheme S1-OU (DPD-S1 with the exact OU sweep in place of BBK; Shang 2021 "
+             "after Figure 4), with the scene's conservative force",
+    "BAOAB": "openmmdpd.DPDIntegrator, scheme BAOAB (B A O A B, the exact OU sweep at the half-drift positions over a "
+             "pair search of its own; Shang 2021 sec. 2.3 and after Figure 4), with the scene's conservative force",
+    "BAOOAB": "openmmdpd.DPDIntegrator, scheme BAOOAB (BAOAB with two O(h/2) sweeps, the second over the pairs in "
+              "reverse order), with the scene's conservative force",
     "ABOBA-CustomNonbonded": "openmmdpd.DPDIntegrator, scheme ABOBA, soft force as an OpenMM CustomNonbondedForce "
                              "(the cost of the force seen apart from the accuracy of the scheme)",
     "OpenMM-DPD": "OpenMM's built-in openmm.DPDIntegrator (its Reference kernel, also on the CPU platform), "
@@ -32,7 +38,7 @@ METHOD_DESCRIPTIONS = {
 }
 OBSERVABLES = ("configurational_temperature", "kinetic_temperature", "rdf", "pressure", "shear_viscosity")
 #: Methods that run under Lees-Edwards shear (OpenMM's own DPDIntegrator has no sheared boundary).
-SHEARABLE_METHODS = ("VV", "S1", "ABOBA", "ABOBA-CustomNonbonded")
+SHEARABLE_METHODS = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB", "ABOBA-CustomNonbonded")
 
 
 @dataclass
