@@ -83,6 +83,8 @@ private:
         return {friction, inverseMasses, uniformInverseMass, kT, sweep.dt, sweep.randomKey, leesEdwards.getShearRate(),
                 accumulateStress && sweep.gatherStress ? &stepPairStress : nullptr, sweep.reversed};
     }
+    /** The stored copy now holds the forces at the current positions and box (the next step's ForcesAtStart). */
+    void markForcesStored();
     /** The latest forces: the Context's, or the copy stored for the next step. */
     std::vector<OpenMM::Vec3>& latestForces();
 

@@ -177,14 +177,18 @@ bool DPDHostStepBackend::useForcesOfPreviousStep(bool withPairs) {
     return true;
 }
 
+void DPDHostStepBackend::markForcesStored() {
+    state.storedForcesValid = true;
+    std::copy(arrays().box, arrays().box+3, boxOfStoredForces);
+}
+
 void DPDHostStepBackend::storeForces() {
     const std::vector<Vec3>& forces = latestForces();
     storedForces.resize(forces.size());
     ownEngine->forEachParticleRange(static_cast<int>(forces.size()), [&](int begin, int end) {
         std::copy(forces.begin()+begin, forces.begin()+end, storedForces.begin()+begin);
     });
-    state.storedForcesValid = true;
-    std::copy(arrays().box, arrays().box+3, boxOfStoredForces);
+    markForcesStored();
     latestForcesStored = true;
 }
 
@@ -338,10 +342,8 @@ void DPDHostStepBackend::findPairs() {
 bool DPDHostStepBackend::kick(double dt, bool keepForces) {
     const std::vector<Vec3>& forces = latestForces();
     bool finite = ownEngine->kick(arrays().velocities, forces, inverseMasses, dt, keepForces ? &storedForces : nullptr);
-    if (keepForces) {
-        state.storedForcesValid = true;
-        std::copy(arrays().box, arrays().box+3, boxOfStoredForces);
-    }
+    if (keepForces)
+        markForcesStored();
     return finite;
 }
 
@@ -379,6 +381,8 @@ bool DPDHostStepBackend::kickWithKeptForces(double dt, int kicks, bool keepForce
         finite = forceKeepingEngine->kickWithKeptForces(closingKick, dissipativeAndRandom != nullptr ? &sweep : nullptr, velocities);
         forcesKept = false; // given to the kick (and, if kept, to the stored copy)
         latestForcesStored = keepForces;
+        if (keepForces)
+            markForcesStored();
     }
     else { // the same operations one after the other
         if (dissipativeAndRandom != nullptr)
@@ -386,10 +390,6 @@ bool DPDHostStepBackend::kickWithKeptForces(double dt, int kicks, bool keepForce
         finite = kick(dt, keepForces);
         for (int k = 1; k < kicks; k++)
             kick(dt, false);
-    }
-    if (keepForces) {
-        state.storedForcesValid = true;
-        std::copy(arrays().box, arrays().box+3, boxOfStoredForces);
     }
     return finite;
 }

@@ -32,6 +32,9 @@ public:
         DPDIntegrator::ForcingMode forcing = DPDIntegrator::NoForcing;
         bool sheared = false;
         bool frictionless = false; // every friction of the table is zero
+        bool operator==(const Options& other) const {
+            return scheme == other.scheme && forcing == other.forcing && sheared == other.sheared && frictionless == other.frictionless;
+        }
     };
     /** The step program of these options; throws an OpenMMException for a combination no scheme defines. */
     static std::vector<DPDStepOperation> of(const Options& options);

@@ -15,8 +15,7 @@ DPDSplittingDynamics::DPDSplittingDynamics(const DPDIntegrator& integrator, cons
 }
 
 const std::vector<DPDStepOperation>& DPDSplittingDynamics::programFor(const DPDStepProgram::Options& options) {
-    if (!programBuilt || options.scheme != programOptions.scheme || options.forcing != programOptions.forcing ||
-        options.sheared != programOptions.sheared || options.frictionless != programOptions.frictionless) {
+    if (!programBuilt || !(options == programOptions)) {
         program = DPDStepProgram::of(options);
         programOptions = options;
         programBuilt = true;
