@@ -10,6 +10,10 @@ from ._build_info import OPENMM_VERSION as BUILT_AGAINST_OPENMM
 
 _PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 KERNEL_LIBRARIES = ("libOpenMMDPDReference.so", "libOpenMMDPDCPU.so")
+# The GPU plugins, where they were built: each loads only where OpenMM's platform of its name does
+# (the CUDA one needs the driver and the openmm-cuda-13 wheel); why one did not is kept here.
+GPU_KERNEL_LIBRARIES = ("libOpenMMDPDOpenCL.so", "libOpenMMDPDCUDA.so")
+gpu_plugin_load_failures: dict[str, str] = {}
 _loaded = False
 
 
@@ -28,11 +32,19 @@ def check_openmm_version(running: str = openmm.__version__, built_against: str =
 
 
 def load_kernels() -> None:
-    """Register the Reference and CPU kernels with OpenMM (which `import openmm` has set up)."""
+    """Register the Reference and CPU kernels with OpenMM (which `import openmm` has set up), and the
+    OpenCL and CUDA kernels where their plugins were built and load."""
     global _loaded
     if _loaded:
         return
     check_openmm_version()
     for name in KERNEL_LIBRARIES:
         openmm.Platform.loadPluginLibrary(os.path.join(_PACKAGE_DIR, name))
+    for name in GPU_KERNEL_LIBRARIES:
+        path = os.path.join(_PACKAGE_DIR, name)
+        if os.path.exists(path):
+            try:
+                openmm.Platform.loadPluginLibrary(path)
+            except Exception as error:  # OpenMM raises its own exception type for a library that does not load
+                gpu_plugin_load_failures[name] = str(error)
     _loaded = True

@@ -38,6 +38,9 @@ inline void loadPlugins() {
     OpenMM::Platform::loadPluginsFromDirectory(OPENMM_PLUGIN_DIR);
     OpenMM::Platform::loadPluginLibrary(std::string(OPENMMDPD_PLUGIN_DIR)+"/libOpenMMDPDReference.so");
     OpenMM::Platform::loadPluginLibrary(std::string(OPENMMDPD_PLUGIN_DIR)+"/libOpenMMDPDCPU.so");
+#ifdef OPENMMDPD_OPENCL_PLUGIN
+    OpenMM::Platform::loadPluginLibrary(std::string(OPENMMDPD_PLUGIN_DIR)+"/libOpenMMDPDOpenCL.so");
+#endif
     loaded = true;
 }
 

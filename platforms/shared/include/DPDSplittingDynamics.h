@@ -9,6 +9,7 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace OpenMMDPD {
@@ -37,6 +38,11 @@ public:
     void setRandomNumberSeed(int seed) { state.reseed(seed); }
     DPDIntegrator::StressStatistics getStressStatistics() const { return backend->stressStatistics(); }
     void resetStressStatistics() { backend->resetStressStatistics(); }
+    /**
+     * The message of a non-finite or runaway state (`what`: positions, velocities ...; particle -1:
+     * unknown) found at `step`, for a backend that reports it after the step (the GPU platforms).
+     */
+    std::string nonFiniteMessage(const char* what, int particle, long long step) const;
     DPDStepBackend& getBackend() { return *backend; }
     const DPDStepBackend& getBackend() const { return *backend; }
 

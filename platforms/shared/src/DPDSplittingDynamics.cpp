@@ -183,13 +183,17 @@ double DPDSplittingDynamics::requireControllable(double fDotG) const {
 }
 
 void DPDSplittingDynamics::throwNonFinite(const char* what, int particle, int stepOffset) const {
+    throw OpenMM::OpenMMException(nonFiniteMessage(what, particle, backend->getStepCount()+1+stepOffset));
+}
+
+std::string DPDSplittingDynamics::nonFiniteMessage(const char* what, int particle, long long step) const {
     std::stringstream message;
     message << "DPDIntegrator: non-finite or runaway " << what;
     if (particle >= 0)
         message << " (first at particle " << particle << ")";
-    message << " at step " << backend->getStepCount()+1+stepOffset << " (scheme " << DPDIntegrator::schemeName(scheme)
-            << ", step size " << stepSize << " ps): the simulation is unstable; reduce the step size";
-    throw OpenMM::OpenMMException(message.str());
+    message << " at step " << step << " (scheme " << DPDIntegrator::schemeName(scheme) << ", step size " << stepSize
+            << " ps): the simulation is unstable; reduce the step size";
+    return message.str();
 }
 
 void DPDSplittingDynamics::createCheckpoint(std::ostream& stream) const {

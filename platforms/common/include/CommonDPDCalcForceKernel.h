@@ -1,0 +1,39 @@
+#ifndef OPENMMDPD_COMMONDPDCALCFORCEKERNEL_H_
+#define OPENMMDPD_COMMONDPDCALCFORCEKERNEL_H_
+
+#include "CommonDPDCellGrid.h"
+#include "openmm/common/ComputeArray.h"
+#include "openmm/common/ComputeContext.h"
+#include "openmmdpd/CalcDPDForceKernel.h"
+#include "openmmdpd/DPDTypePairTable.h"
+#include <memory>
+
+namespace OpenMMDPD {
+
+/**
+ * DPDForce on the OpenCL and CUDA platforms: the device cell grid built at every evaluation (DPD
+ * particles move a large part of the cutoff in a few steps), then one gather per particle over its 27
+ * cells (dpdConservativeForce.cc) into OpenMM's fixed-point force buffer and energy buffer: no
+ * floating-point atomics, so the same positions give the same bits.  Per-particle types are kept by
+ * System index and read through OpenMM's atomIndex, so OpenMM's reordering of atoms needs no upload.
+ */
+class CommonDPDCalcForceKernel : public CalcDPDForceKernel {
+public:
+    CommonDPDCalcForceKernel(const std::string& name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc)
+        : CalcDPDForceKernel(name, platform), cc(cc) {}
+    void initialize(const OpenMM::System& system, const DPDForce& force) override;
+    double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
+    void copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) override;
+
+private:
+    void uploadParameters(const DPDTypePairTable::Compiled& compiled);
+    OpenMM::ComputeContext& cc;
+    std::unique_ptr<CommonDPDCellGrid> grid;
+    CommonDPDKernel forceKernel;
+    OpenMM::ComputeArray typeOf, repulsion, cutoff;
+    DPDTypePairTable::Compiled parameters;
+};
+
+} // namespace OpenMMDPD
+
+#endif

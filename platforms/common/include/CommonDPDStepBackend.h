@@ -1,0 +1,94 @@
+#ifndef OPENMMDPD_COMMONDPDSTEPBACKEND_H_
+#define OPENMMDPD_COMMONDPDSTEPBACKEND_H_
+
+#include "CommonDPDCellGrid.h"
+#include "DPDSchemeState.h"
+#include "DPDStepBackend.h"
+#include "openmm/common/ComputeArray.h"
+#include "openmm/common/ComputeContext.h"
+#include "openmm/internal/ContextImpl.h"
+#include "openmmdpd/DPDTypePairTable.h"
+#include <memory>
+
+namespace OpenMMDPD {
+
+/**
+ * The backend of the schemes (DPDSplittingDynamics) on the OpenCL and CUDA platforms: each operation
+ * is a kernel on OpenMM's device arrays (dpdSplittingStep.cc), the pairs come from the device cell
+ * grid (CommonDPDCellGrid), and the O sweeps run colour by colour, each block's pairs one after
+ * another: the exact successive sweep of the host platforms, in the grid's order, reproducible bit
+ * for bit.  Nothing is read back per step: a non-finite or runaway state is recorded on the device
+ * and reported by checkSoundness() once per step() call, naming the first step at which it was seen.
+ *
+ * Not yet on these platforms (each refused with an exception naming it): Lees-Edwards shear, stress
+ * accumulation, NEMD and Norton forcing.  No fusion is declared: every operation is its own launch.
+ */
+class CommonDPDStepBackend : public DPDStepBackend {
+public:
+    CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM::ComputeContext& cc, const DPDIntegrator& integrator, DPDSchemeState& state);
+    ~CommonDPDStepBackend() override;
+
+    void beginStep(const DPDIntegrator& integrator) override;
+    bool isFrictionless() const override { return friction.allValuesZero; }
+    int getNumParticles() const override { return cc.getNumAtoms(); }
+    void endStep(double stepSize, double stressScale) override;
+    void abandonStep() override {}
+    long long getStepCount() const override { return cc.getStepCount(); }
+    DPDFusionSupport fusionSupport() const override { return DPDFusionSupport(); }
+
+    bool useForcesOfPreviousStep(bool withPairs) override;
+    void storeForces() override;
+    void evaluateForces(bool keepForces, bool needPairs) override;
+    void findPairs() override;
+    int drift(double dt, int times, double kickDt, bool* velocitiesFinite) override;
+    bool kick(double dt, bool keepForces) override;
+    double sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep, bool response) override;
+    void sweepBBK(const DPDSweepRequest& sweep) override;
+    void addDissipativeAndRandomForces(const DPDSweepRequest& sweep) override;
+    bool sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& sweep, double kickDt) override;
+    bool kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) override;
+    void moveImages(double elapsed, bool wrap) override;
+    double evaluateForcingField() override;
+    double responseOfVelocities() const override;
+    void applyForcingImpulse(double xi) override;
+
+    std::vector<OpenMM::Vec3> getStoredForces(OpenMM::Vec3* box) const override;
+    void setStoredForces(std::vector<OpenMM::Vec3> forces, const OpenMM::Vec3* box) override;
+    DPDIntegrator::StressStatistics& stressStatistics() override { return noStress; }
+    const DPDIntegrator::StressStatistics& stressStatistics() const override { return noStress; }
+    void resetStressStatistics() override {}
+
+    double computeKineticEnergy();
+    /** Positions, velocities or parameters were set from outside (checked before the next step). */
+    void stateChanged(OpenMM::State::DataType changed);
+    /** The first step since the last check at which the device saw a non-finite or runaway state, or 0 (clears it). */
+    long long takeFirstUnsoundStep();
+    /** The first particle (System index) whose position or velocity is not finite, or -1. */
+    int firstNonFiniteParticle() const;
+
+private:
+    class AtomReorderListener;
+    void uploadFriction(const DPDIntegrator& integrator);
+    void checkExternalState() const;
+    void sweep(int mode, const DPDSweepRequest& request);
+    OpenMM::ContextImpl& context;
+    OpenMM::ComputeContext& cc;
+    DPDSchemeState& state;
+    int integrationGroups;
+    double kT;
+    DPDTypePairTable::Compiled friction;
+    unsigned long long frictionRevision;
+    std::unique_ptr<CommonDPDCellGrid> grid;
+    CommonDPDKernel kickKernel, driftKernel, sweepKernel;
+    OpenMM::ComputeArray typeOf, frictionValues, frictionCutoffs, storedForces, flags;
+    bool pairsAtCurrentPositions = false; // the grid belongs to the current positions
+    bool latestForcesStored = false;      // the latest forces are the stored copy, not the Context's
+    bool externalStateUnchecked = true;
+    OpenMM::Vec3 boxOfStoredForces[3];
+    double maxDisplacementPerDrift = 0.0;
+    DPDIntegrator::StressStatistics noStress;
+};
+
+} // namespace OpenMMDPD
+
+#endif

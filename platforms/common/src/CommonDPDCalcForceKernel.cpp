@@ -1,0 +1,53 @@
+#include "CommonDPDCalcForceKernel.h"
+#include "CommonDPDProgram.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/common/ContextSelector.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
+
+using namespace OpenMMDPD;
+
+void CommonDPDCalcForceKernel::initialize(const OpenMM::System& system, const DPDForce& force) {
+    if (cc.getNumContexts() > 1)
+        throw OpenMM::OpenMMException("DPDForce: the OpenCL and CUDA platforms run a DPDForce on one device only; set the "
+                                      "platform property DeviceIndex to a single device");
+    OpenMM::ContextSelector selector(cc);
+    OpenMM::ComputeProgram program = CommonDPDProgram::compile(cc, "DPDForce");
+    grid = std::make_unique<CommonDPDCellGrid>(cc, program);
+    forceKernel = CommonDPDKernel(program, "dpdConservativeForces");
+    parameters = force.getTable().compile(system.getNumParticles());
+    typeOf.initialize<int>(cc, system.getNumParticles(), "dpdForceTypes");
+    uploadParameters(parameters);
+}
+
+void CommonDPDCalcForceKernel::uploadParameters(const DPDTypePairTable::Compiled& compiled) {
+    typeOf.upload(compiled.particleTypeIndex);
+    int numValues = static_cast<int>(compiled.value.size());
+    if (!repulsion.isInitialized() || repulsion.getSize() != static_cast<std::size_t>(numValues)) {
+        repulsion.initialize<double>(cc, numValues, "dpdForceRepulsion");
+        cutoff.initialize<double>(cc, numValues, "dpdForceCutoff"); // execute() passes them again
+    }
+    repulsion.upload(compiled.value);
+    cutoff.upload(compiled.cutoff);
+}
+
+void CommonDPDCalcForceKernel::copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) {
+    DPDTypePairTable::Compiled updated = force.getTable().compile(context.getSystem().getNumParticles());
+    if (updated.numTypes != parameters.numTypes)
+        throw OpenMM::OpenMMException("DPDForce: updateParametersInContext cannot change the set of particle types");
+    OpenMM::ContextSelector selector(cc);
+    parameters = std::move(updated);
+    uploadParameters(parameters);
+}
+
+double CommonDPDCalcForceKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
+    OpenMM::ContextSelector selector(cc);
+    OpenMM::Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    DPDPeriodicBox::checkCutoff("DPDForce", parameters.maxCutoff, box);
+    grid->build(parameters.maxCutoff, "DPDForce");
+    forceKernel.run(cc.getNumAtoms(), -1, cc.getNumAtoms(), cc.getPosq(), grid->getBoxSize(), grid->getInverseBoxSize(),
+                    grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(),
+                    typeOf, repulsion, cutoff, parameters.numTypes, parameters.maxCutoff, cc.getLongForceBuffer(), cc.getEnergyBuffer(),
+                    includeForces ? 1 : 0, includeEnergy ? 1 : 0);
+    return 0.0; // the energy is in OpenMM's energy buffer
+}

@@ -1,0 +1,75 @@
+#include "CommonDPDCellGrid.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/common/ContextSelector.h"
+#include <cmath>
+#include <sstream>
+
+using namespace OpenMMDPD;
+using OpenMM::Vec3;
+
+bool CommonDPDCellGrid::Layout::colourIsUsed(int colour) const {
+    return ((colour & 1) == 0 || numBlocks.x > 1) && ((colour & 2) == 0 || numBlocks.y > 1) && ((colour & 4) == 0 || numBlocks.z > 1);
+}
+
+CommonDPDCellGrid::Layout CommonDPDCellGrid::layOut(const Vec3* box, double radius, const char* owner) {
+    if (box[0][1] != 0.0 || box[0][2] != 0.0 || box[1][0] != 0.0 || box[1][2] != 0.0 || box[2][0] != 0.0 || box[2][1] != 0.0)
+        throw OpenMM::OpenMMException(std::string(owner)+": the OpenCL and CUDA platforms need a rectangular periodic box; "
+                                      "use the CPU or Reference platform for a triclinic one");
+    Layout layout;
+    int cells[3], blocks[3];
+    for (int k = 0; k < 3; k++) {
+        double side = box[k][k];
+        cells[k] = static_cast<int>(std::floor(side/radius));
+        if (!(cells[k] >= 3)) {
+            std::stringstream message;
+            message << owner << ": the OpenCL and CUDA platforms need a periodic box at least 3 cutoffs wide (the largest cutoff "
+                    << radius << " nm, box side " << side << " nm); use the CPU or Reference platform for a smaller box";
+            throw OpenMM::OpenMMException(message.str());
+        }
+        // Blocks of 2 or 3 cells, an even number of them (two of a parity are a block apart), or one.
+        blocks[k] = cells[k]/2;
+        if (blocks[k] % 2 == 1)
+            blocks[k] = blocks[k] == 1 ? 1 : blocks[k]-1;
+    }
+    layout.numCells = OpenMM::mm_int4(cells[0], cells[1], cells[2], cells[0]*cells[1]*cells[2]);
+    layout.numBlocks = OpenMM::mm_int4(blocks[0], blocks[1], blocks[2], blocks[0]*blocks[1]*blocks[2]);
+    layout.numColours = 8;
+    layout.blocksPerColour = 1;
+    for (int k = 0; k < 3; k++)
+        layout.blocksPerColour *= blocks[k] == 1 ? 1 : blocks[k]/2;
+    return layout;
+}
+
+CommonDPDCellGrid::CommonDPDCellGrid(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program) : cc(cc) {
+    locate = CommonDPDKernel(program, "dpdLocateParticles");
+    scan = CommonDPDKernel(program, "dpdScanCellCounts");
+    scatter = CommonDPDKernel(program, "dpdScatterParticles");
+    sort = CommonDPDKernel(program, "dpdSortCells");
+    cellOf.initialize<int>(cc, cc.getPaddedNumAtoms(), "dpdCellOf");
+    cellAtoms.initialize<int>(cc, cc.getPaddedNumAtoms(), "dpdCellAtoms");
+}
+
+void CommonDPDCellGrid::build(double radius, const char* owner) {
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    layout = layOut(box, radius, owner);
+    this->radius = radius;
+    boxSize = OpenMM::mm_double4(box[0][0], box[1][1], box[2][2], 0.0);
+    inverseBoxSize = OpenMM::mm_double4(1.0/box[0][0], 1.0/box[1][1], 1.0/box[2][2], 0.0);
+    int numCells = layout.numCells.w;
+    if (numCells > numCellsAllocated) { // grows only: a box that breathes does not reallocate every step
+        cellCount.initialize<int>(cc, numCells, "dpdCellCount");
+        cellStart.initialize<int>(cc, numCells+1, "dpdCellStart");
+        cellCursor.initialize<int>(cc, numCells, "dpdCellCursor");
+        numCellsAllocated = numCells;
+    }
+    int numAtoms = cc.getNumAtoms();
+    cc.clearBuffer(cellCount);
+    if (cc.getUseMixedPrecision())
+        locate.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), inverseBoxSize, layout.numCells, cellOf, cellCount);
+    else
+        locate.run(numAtoms, -1, numAtoms, cc.getPosq(), inverseBoxSize, layout.numCells, cellOf, cellCount);
+    scan.run(scanSize, scanSize, numCells, cellCount, cellStart, cellCursor);
+    scatter.run(numAtoms, -1, numAtoms, cellOf, cellCursor, cellAtoms);
+    sort.run(numCells, -1, numCells, cellStart, cellAtoms, cc.getAtomIndexArray());
+}

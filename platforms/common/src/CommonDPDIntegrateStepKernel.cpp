@@ -1,0 +1,23 @@
+#include "CommonDPDIntegrateStepKernel.h"
+#include "openmm/OpenMMException.h"
+
+using namespace OpenMMDPD;
+
+void CommonDPDIntegrateStepKernel::initialize(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) {
+    cc.initializeContexts();
+    dynamics = std::make_unique<DPDSplittingDynamics>(integrator, [&](DPDSchemeState& state) {
+        auto backend = std::make_unique<CommonDPDStepBackend>(context, cc, integrator, state);
+        deviceBackend = backend.get();
+        return backend;
+    });
+}
+
+void CommonDPDIntegrateStepKernel::execute(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, bool moreStepsFollow) {
+    dynamics->step(integrator, moreStepsFollow);
+    if (moreStepsFollow)
+        return;
+    long long unsoundStep = deviceBackend->takeFirstUnsoundStep(); // one small read per step() call
+    if (unsoundStep != 0)
+        throw OpenMM::OpenMMException(dynamics->nonFiniteMessage("positions or velocities", deviceBackend->firstNonFiniteParticle(),
+                                                                 unsoundStep));
+}

@@ -1,0 +1,334 @@
+#include "CommonDPDStepBackend.h"
+#include "CommonDPDProgram.h"
+#include "DPDFrictionTable.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/common/ContextSelector.h"
+#include "openmm/common/IntegrationUtilities.h"
+#include "openmm/reference/SimTKOpenMMRealType.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+using namespace OpenMMDPD;
+using OpenMM::Vec3;
+
+namespace {
+
+constexpr double fixedPointScale = 4294967296.0; // OpenMM's fixed-point forces: 2^32 units per kJ/mol/nm
+enum SweepMode { OrnsteinUhlenbeck = 0, BBK = 1, DissipativeAndRandomForces = 2 }; // dpdSplittingStep.cc
+
+[[noreturn]] void notYetOnThisPlatform(const std::string& what) {
+    throw OpenMM::OpenMMException("DPDIntegrator: "+what+" is not available on the OpenCL and CUDA platforms yet; use the "
+                                  "CPU or Reference platform for it");
+}
+
+} // namespace
+
+/** OpenMM reordered the atoms: the grid's slots name atoms by their old places. */
+class CommonDPDStepBackend::AtomReorderListener : public OpenMM::ComputeContext::ReorderListener {
+public:
+    explicit AtomReorderListener(bool& pairsValid) : pairsValid(pairsValid) {}
+    void execute() override { pairsValid = false; }
+
+private:
+    bool& pairsValid;
+};
+
+CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM::ComputeContext& cc, const DPDIntegrator& integrator,
+                                           DPDSchemeState& state)
+    : context(context), cc(cc), state(state), integrationGroups(integrator.getIntegrationForceGroups()) {
+    if (cc.getNumContexts() > 1)
+        throw OpenMM::OpenMMException("DPDIntegrator: the OpenCL and CUDA platforms integrate on one device only; set the "
+                                      "platform property DeviceIndex to a single device");
+    const OpenMM::System& system = context.getSystem();
+    if (system.getNumConstraints() > 0)
+        throw OpenMM::OpenMMException("DPDIntegrator: constraints are not supported");
+    OpenMM::ContextSelector selector(cc);
+    OpenMM::ComputeProgram program = CommonDPDProgram::compile(cc, "DPDIntegrator");
+    grid = std::make_unique<CommonDPDCellGrid>(cc, program);
+    kickKernel = CommonDPDKernel(program, "dpdKick");
+    driftKernel = CommonDPDKernel(program, "dpdDrift");
+    sweepKernel = CommonDPDKernel(program, "dpdSweepColour");
+    typeOf.initialize<int>(cc, system.getNumParticles(), "dpdFrictionTypes");
+    storedForces.initialize<long long>(cc, 3*system.getNumParticles(), "dpdStoredForces");
+    flags.initialize<int>(cc, 1, "dpdUnsoundStep");
+    cc.clearBuffer(flags);
+    uploadFriction(integrator);
+    Vec3 box[3];
+    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
+    CommonDPDCellGrid::layOut(box, friction.maxCutoff, "DPDIntegrator");
+    cc.addReorderListener(new AtomReorderListener(pairsAtCurrentPositions)); // the context owns and deletes it
+}
+
+CommonDPDStepBackend::~CommonDPDStepBackend() = default;
+
+void CommonDPDStepBackend::uploadFriction(const DPDIntegrator& integrator) {
+    DPDTypePairTable::Compiled updated = DPDFrictionTable::compile(context.getSystem(), integrator.getTable());
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    if (frictionValues.isInitialized()) // at construction the box is the System's default, checked there
+        DPDPeriodicBox::checkCutoff("DPDIntegrator", updated.maxCutoff, box);
+    friction = std::move(updated);
+    frictionRevision = integrator.getTable().getRevision();
+    typeOf.upload(friction.particleTypeIndex);
+    int numValues = static_cast<int>(friction.value.size());
+    if (!frictionValues.isInitialized() || frictionValues.getSize() != static_cast<std::size_t>(numValues)) {
+        frictionValues.initialize<double>(cc, numValues, "dpdFriction");
+        frictionCutoffs.initialize<double>(cc, numValues, "dpdFrictionCutoff");
+    }
+    frictionValues.upload(friction.value);
+    frictionCutoffs.upload(friction.cutoff);
+}
+
+void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
+    if (integrator.getShearRate() != 0.0)
+        notYetOnThisPlatform("Lees-Edwards shear (setLeesEdwards)");
+    if (integrator.getStressAccumulation())
+        notYetOnThisPlatform("stress accumulation (setStressAccumulation)");
+    if (integrator.getForcingMode() != DPDIntegrator::NoForcing)
+        notYetOnThisPlatform(integrator.getForcingMode() == DPDIntegrator::NEMD ? "NEMD forcing" : "Norton forcing");
+    OpenMM::ContextSelector selector(cc);
+    kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
+    if (integrator.getTable().getRevision() != frictionRevision) {
+        uploadFriction(integrator);
+        state.storedForcesValid = false; // VV's stored dissipative force used the old friction
+        pairsAtCurrentPositions = false; // S1's stored pairs may not reach a larger cutoff
+    }
+    if (externalStateUnchecked) {
+        checkExternalState();
+        externalStateUnchecked = false;
+    }
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    maxDisplacementPerDrift = 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2]));
+    for (int k = 0; k < 3; k++)
+        if (box[k] != boxOfStoredForces[k])
+            state.storedForcesValid = false;
+    state.keepStoredForcesThroughStateChanges = false;
+}
+
+void CommonDPDStepBackend::checkExternalState() const {
+    int particle = firstNonFiniteParticle();
+    if (particle < 0)
+        return;
+    std::stringstream message;
+    message << "DPDIntegrator: particle " << particle << " has a non-finite position or velocity before step " << cc.getStepCount()+1
+            << "; every position and velocity set in the Context must be finite";
+    throw OpenMM::OpenMMException(message.str());
+}
+
+int CommonDPDStepBackend::firstNonFiniteParticle() const {
+    std::vector<Vec3> positions, velocities;
+    context.getPositions(positions);
+    context.getVelocities(velocities);
+    auto finite = [](const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); };
+    for (std::size_t i = 0; i < positions.size(); i++)
+        if (!finite(positions[i]) || !finite(velocities[i]))
+            return static_cast<int>(i);
+    return -1;
+}
+
+long long CommonDPDStepBackend::takeFirstUnsoundStep() {
+    OpenMM::ContextSelector selector(cc);
+    int step;
+    flags.download(&step);
+    if (step != 0)
+        cc.clearBuffer(flags);
+    return step;
+}
+
+void CommonDPDStepBackend::endStep(double stepSize, double stressScale) {
+    cc.setTime(cc.getTime()+stepSize);
+    cc.setStepCount(cc.getStepCount()+1);
+    cc.reorderAtoms(); // as OpenMM's integrators do (it acts every so many steps, and only with cutoff forces)
+}
+
+bool CommonDPDStepBackend::useForcesOfPreviousStep(bool withPairs) {
+    if (!state.storedForcesValid || (withPairs && !pairsAtCurrentPositions))
+        return false;
+    latestForcesStored = true;
+    return true;
+}
+
+void CommonDPDStepBackend::storeForces() {
+    if (latestForcesStored)
+        return;
+    // A kick of zero length that keeps a copy: the copy is what is wanted, the kick changes nothing.
+    kick(0.0, true);
+}
+
+void CommonDPDStepBackend::evaluateForces(bool keepForces, bool needPairs) {
+    state.storedForcesValid = false; // they belong to other positions now
+    latestForcesStored = false;
+    context.calcForcesAndEnergy(true, false, integrationGroups);
+    OpenMM::ContextSelector selector(cc);
+    if (friction.allValuesZero)
+        pairsAtCurrentPositions = true; // no O sweep at zero friction, so no pair search either
+    else if (needPairs)
+        findPairs();
+    else
+        pairsAtCurrentPositions = false; // no sweep at these positions (BAOAB): no search
+}
+
+void CommonDPDStepBackend::findPairs() {
+    OpenMM::ContextSelector selector(cc);
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
+    grid->build(friction.maxCutoff, "DPDIntegrator");
+    pairsAtCurrentPositions = true;
+}
+
+int CommonDPDStepBackend::drift(double dt, int times, double kickDt, bool* velocitiesFinite) {
+    OpenMM::ContextSelector selector(cc);
+    int numAtoms = cc.getNumAtoms();
+    int kickFrom = kickDt == 0.0 ? 0 : (latestForcesStored ? 2 : 1);
+    int step = static_cast<int>(cc.getStepCount()+1);
+    double maxDisplacement2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
+    if (cc.getUseMixedPrecision())
+        driftKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), cc.getVelm(), cc.getLongForceBuffer(), storedForces,
+                        cc.getAtomIndexArray(), kickDt, kickFrom, dt, times, maxDisplacement2, step, flags);
+    else
+        driftKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getVelm(), cc.getLongForceBuffer(), storedForces, cc.getAtomIndexArray(),
+                        kickDt, kickFrom, dt, times, maxDisplacement2, step, flags);
+    cc.getIntegrationUtilities().computeVirtualSites(); // as OpenMM's integrators do after every position update
+    pairsAtCurrentPositions = friction.allValuesZero;
+    return -1; // recorded on the device, reported once per step() call (takeFirstUnsoundStep)
+}
+
+bool CommonDPDStepBackend::kick(double dt, bool keepForces) {
+    OpenMM::ContextSelector selector(cc);
+    int numAtoms = cc.getNumAtoms();
+    int step = static_cast<int>(cc.getStepCount()+1);
+    kickKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getLongForceBuffer(), storedForces, cc.getAtomIndexArray(), dt,
+                   latestForcesStored ? 1 : 0, keepForces ? 1 : 0, step, flags);
+    if (keepForces) {
+        state.storedForcesValid = true;
+        cc.getPeriodicBoxVectors(boxOfStoredForces[0], boxOfStoredForces[1], boxOfStoredForces[2]);
+        latestForcesStored = true;
+    }
+    return true;
+}
+
+void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
+    if (!pairsAtCurrentPositions)
+        throw OpenMM::OpenMMException("DPDIntegrator: internal error: a pair sweep without the pairs of the current positions");
+    OpenMM::ContextSelector selector(cc);
+    const CommonDPDCellGrid::Layout& layout = grid->getLayout();
+    std::uint64_t key = request.randomKey; // the kernel's mm_ulong
+    // VV's F^D + F^R go to the latest forces: the Context's, or the stored copy (at the start of a run).
+    OpenMM::ArrayInterface& forces = latestForcesStored ? static_cast<OpenMM::ArrayInterface&>(storedForces) : cc.getLongForceBuffer();
+    int forcesStored = latestForcesStored ? 1 : 0;
+    for (int n = 0; n < layout.numColours; n++) {
+        int colour = request.reversed ? layout.numColours-1-n : n;
+        if (!layout.colourIsUsed(colour))
+            continue;
+        if (cc.getUseMixedPrecision())
+            sweepKernel.run(layout.blocksPerColour, -1, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
+                            cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(),
+                            grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
+                            friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored);
+        else
+            sweepKernel.run(layout.blocksPerColour, -1, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
+                            grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(),
+                            cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
+                            request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored);
+    }
+}
+
+double CommonDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& request, bool response) {
+    if (response)
+        notYetOnThisPlatform("Norton forcing");
+    sweep(OrnsteinUhlenbeck, request);
+    return 0.0;
+}
+
+void CommonDPDStepBackend::sweepBBK(const DPDSweepRequest& request) {
+    sweep(BBK, request);
+}
+
+void CommonDPDStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& request) {
+    sweep(DissipativeAndRandomForces, request);
+}
+
+bool CommonDPDStepBackend::sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& request, double kickDt) {
+    kick(kickDt, false); // no fusion is declared: the same operations one after the other
+    if (kind == DPDStepOperation::BBKSweep)
+        sweepBBK(request);
+    else
+        sweepOrnsteinUhlenbeck(request, false);
+    return kick(kickDt, false);
+}
+
+bool CommonDPDStepBackend::kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) {
+    if (dissipativeAndRandom != nullptr)
+        addDissipativeAndRandomForces(*dissipativeAndRandom);
+    kick(dt, keepForces);
+    for (int k = 1; k < kicks; k++)
+        kick(dt, false);
+    return true;
+}
+
+void CommonDPDStepBackend::moveImages(double elapsed, bool wrap) {
+    notYetOnThisPlatform("Lees-Edwards shear (setLeesEdwards)");
+}
+
+double CommonDPDStepBackend::evaluateForcingField() {
+    notYetOnThisPlatform("NEMD and Norton forcing");
+}
+
+double CommonDPDStepBackend::responseOfVelocities() const {
+    notYetOnThisPlatform("NEMD and Norton forcing");
+}
+
+void CommonDPDStepBackend::applyForcingImpulse(double xi) {
+    notYetOnThisPlatform("NEMD and Norton forcing");
+}
+
+std::vector<Vec3> CommonDPDStepBackend::getStoredForces(Vec3* box) const {
+    std::copy(boxOfStoredForces, boxOfStoredForces+3, box);
+    OpenMM::ContextSelector selector(cc);
+    int numAtoms = cc.getNumAtoms();
+    std::vector<long long> fixed(3*numAtoms);
+    const_cast<OpenMM::ComputeArray&>(storedForces).download(fixed);
+    std::vector<Vec3> forces(numAtoms);
+    for (int i = 0; i < numAtoms; i++)
+        forces[i] = Vec3(fixed[i], fixed[i+numAtoms], fixed[i+2*numAtoms])/fixedPointScale; // exact: |F| < 2^21
+    return forces;
+}
+
+void CommonDPDStepBackend::setStoredForces(std::vector<Vec3> forces, const Vec3* box) {
+    OpenMM::ContextSelector selector(cc);
+    if (!forces.empty()) {
+        int numAtoms = cc.getNumAtoms();
+        std::vector<long long> fixed(3*numAtoms);
+        for (int i = 0; i < numAtoms; i++)
+            for (int k = 0; k < 3; k++)
+                fixed[i+k*numAtoms] = static_cast<long long>(forces[i][k]*fixedPointScale);
+        storedForces.upload(fixed);
+        std::copy(box, box+3, boxOfStoredForces);
+    }
+    pairsAtCurrentPositions = false;
+    latestForcesStored = false;
+    externalStateUnchecked = true;
+}
+
+double CommonDPDStepBackend::computeKineticEnergy() {
+    OpenMM::ContextSelector selector(cc);
+    return cc.getIntegrationUtilities().computeKineticEnergy(0.0);
+}
+
+void CommonDPDStepBackend::stateChanged(OpenMM::State::DataType changed) {
+    if (changed == OpenMM::State::Positions || changed == OpenMM::State::Velocities)
+        externalStateUnchecked = true;
+    // Loading a checkpoint reports every kind of change right after restoring our stored forces,
+    // which belong to the restored state: keep them until the next step.
+    if (state.keepStoredForcesThroughStateChanges)
+        return;
+    if (changed == OpenMM::State::Positions || changed == OpenMM::State::Parameters || changed == OpenMM::State::Energy) {
+        state.storedForcesValid = false;
+        pairsAtCurrentPositions = false;
+    }
+}

@@ -1,0 +1,118 @@
+/*
+ * The device cell grid of the GPU platforms (CommonDPDCellGrid): every particle binned into a cell at
+ * least one cutoff wide, the cells in one array, each cell's particles sorted by their index in the
+ * System (OpenMM's atomIndex), so that the order of the pairs depends on the positions and the
+ * System's indices alone, never on the order OpenMM keeps the atoms in, nor on which thread ran first.
+ *
+ * Written once for OpenCL and CUDA in OpenMM's common dialect (KERNEL, GLOBAL, ATOMIC_ADD, ...) and
+ * ours (DPDKernelDialect.h).  Only integer atomics (the counts); nothing here is a floating-point sum.
+ */
+
+#ifdef USE_MIXED_PRECISION
+#define DPD_POSITIONS GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection
+#define DPD_POSITION(i) make_mixed4(posq[i].x+(mixed) posqCorrection[i].x, posq[i].y+(mixed) posqCorrection[i].y, \
+                                    posq[i].z+(mixed) posqCorrection[i].z, posq[i].w)
+#else
+#define DPD_POSITIONS GLOBAL real4* RESTRICT posq
+#define DPD_POSITION(i) posq[i]
+#endif
+
+#if defined(__OPENCL_VERSION__)
+#define DPD_DOUBLE_BITS(x) as_long(x)
+#else
+#define DPD_DOUBLE_BITS(x) __double_as_longlong(x)
+#endif
+
+/** Whether x is finite, from its bits (a fast-math compiler may assume that no value is NaN). */
+DEVICE int dpdIsFinite(double x) {
+    return (((dpd_uint64) DPD_DOUBLE_BITS(x)) & DPD_U64(0x7ff0000000000000)) != DPD_U64(0x7ff0000000000000);
+}
+
+/** The cell of one coordinate: its fractional position in the (rectangular) box times the cells per side. */
+DEVICE int dpdCellCoordinate(double x, double inverseBoxSize, int numCells) {
+    double fraction = x*inverseBoxSize;
+    fraction -= floor(fraction);
+    int cell = (int) (fraction*numCells);
+    return cell < 0 ? 0 : (cell >= numCells ? numCells-1 : cell); // NaN lands in a cell too: the drift reports it
+}
+
+DEVICE int dpdCellOf(mixed4 position, double4 inverseBoxSize, int4 numCells) {
+    int cx = dpdCellCoordinate(position.x, inverseBoxSize.x, numCells.x);
+    int cy = dpdCellCoordinate(position.y, inverseBoxSize.y, numCells.y);
+    int cz = dpdCellCoordinate(position.z, inverseBoxSize.z, numCells.z);
+    return cx+numCells.x*(cy+numCells.y*cz);
+}
+
+/** The minimum-image separation of one coordinate in a rectangular box. */
+DEVICE double dpdMinimumImage(double delta, double boxSize, double inverseBoxSize) {
+    return delta-boxSize*floor(delta*inverseBoxSize+0.5);
+}
+
+/** Each particle's cell, and the number of particles in each cell (cellCount cleared before). */
+KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 inverseBoxSize, int4 numCells,
+                               GLOBAL int* RESTRICT cellOf, GLOBAL int* RESTRICT cellCount) {
+    for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
+        mixed4 position = DPD_POSITION(i);
+        int cell = dpdCellOf(position, inverseBoxSize, numCells);
+        cellOf[i] = cell;
+        ATOMIC_ADD(&cellCount[cell], 1);
+    }
+}
+
+/**
+ * The first slot of every cell (an exclusive scan of the counts; cellStart[numCells] = the total), in
+ * one work-group of DPD_SCAN_SIZE threads, each scanning a contiguous chunk of cells.
+ */
+KERNEL void dpdScanCellCounts(int numCells, GLOBAL const int* RESTRICT cellCount, GLOBAL int* RESTRICT cellStart,
+                              GLOBAL int* RESTRICT cellCursor) {
+    LOCAL int chunkStart[DPD_SCAN_SIZE];
+    int chunk = (numCells+DPD_SCAN_SIZE-1)/DPD_SCAN_SIZE;
+    int begin = LOCAL_ID*chunk < numCells ? LOCAL_ID*chunk : numCells;
+    int end = begin+chunk < numCells ? begin+chunk : numCells;
+    int sum = 0;
+    for (int cell = begin; cell < end; cell++)
+        sum += cellCount[cell];
+    chunkStart[LOCAL_ID] = sum;
+    SYNC_THREADS;
+    if (LOCAL_ID == 0) {
+        int total = 0;
+        for (int k = 0; k < DPD_SCAN_SIZE; k++) {
+            int count = chunkStart[k];
+            chunkStart[k] = total;
+            total += count;
+        }
+        cellStart[numCells] = total;
+    }
+    SYNC_THREADS;
+    int start = chunkStart[LOCAL_ID];
+    for (int cell = begin; cell < end; cell++) {
+        cellStart[cell] = start;
+        cellCursor[cell] = start;
+        start += cellCount[cell];
+    }
+}
+
+/** Every particle into a slot of its cell (in whatever order the atomics give: dpdSortCells fixes it). */
+KERNEL void dpdScatterParticles(int numAtoms, GLOBAL const int* RESTRICT cellOf, GLOBAL int* RESTRICT cellCursor,
+                                GLOBAL int* RESTRICT cellAtoms) {
+    for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE)
+        cellAtoms[ATOMIC_ADD(&cellCursor[cellOf[i]], 1)] = i;
+}
+
+/** Each cell's particles in the order of their System indices (an insertion sort: cells hold a few). */
+KERNEL void dpdSortCells(int numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL int* RESTRICT cellAtoms,
+                         GLOBAL const int* RESTRICT atomIndex) {
+    for (int cell = GLOBAL_ID; cell < numCells; cell += GLOBAL_SIZE) {
+        int begin = cellStart[cell], end = cellStart[cell+1];
+        for (int slot = begin+1; slot < end; slot++) {
+            int atom = cellAtoms[slot];
+            int key = atomIndex[atom];
+            int k = slot-1;
+            while (k >= begin && atomIndex[cellAtoms[k]] > key) {
+                cellAtoms[k+1] = cellAtoms[k];
+                k--;
+            }
+            cellAtoms[k+1] = atom;
+        }
+    }
+}
