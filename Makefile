@@ -8,7 +8,7 @@ export PYTHON
 export CMAKE_GENERATOR ?= Unix Makefiles
 export CMAKE_BUILD_PARALLEL_LEVEL := $(JOBS)
 
-.PHONY: all deps build install test test-cpp test-python test-installed test-cpp-install test-sanitize docs demo study-full transport bench clean
+.PHONY: all deps build install test test-cpp test-python test-installed test-cpp-install test-sanitize docs demo study-full transport bench bench-gpu clean
 
 all: build
 
@@ -91,6 +91,11 @@ transport: build
 
 bench: build
 	$(PYTHON) benchmarks/bench.py --out benchmarks/bench-results.md
+
+# The GPU platforms (CUDA, OpenCL) against OpenMM's own DPDIntegrator; on OpenCL on the CPU (pocl) the two
+# smallest sizes only.  Also runnable alone: python benchmarks/bench_gpu.py --help.
+bench-gpu: build
+	$(PYTHON) benchmarks/bench_gpu.py --out benchmarks/bench-gpu-results.md
 
 clean:
 	rm -rf $(BUILD) $(BUILD).install.log $(SANITIZE_BUILD) $(SANITIZE_BUILD).configure.log

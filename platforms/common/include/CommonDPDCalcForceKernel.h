@@ -25,6 +25,12 @@ public:
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
     void copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) override;
 
+    /** The grid of the latest evaluation (cells at least getCutoff() wide), for a DPDIntegrator sweeping at the same positions. */
+    CommonDPDCellGrid& getGrid() const { return *grid; }
+    /** Counts evaluations, so a reader can tell whether the grid belongs to the positions it holds. */
+    long long getEvaluationCount() const { return evaluationCount; }
+    double getCutoff() const { return parameters.maxCutoff; }
+
 private:
     void uploadParameters(const DPDTypePairTable::Compiled& compiled);
     OpenMM::ComputeContext& cc;
@@ -32,6 +38,7 @@ private:
     CommonDPDKernel forceKernel;
     OpenMM::ComputeArray typeOf, repulsion, cutoff;
     DPDTypePairTable::Compiled parameters;
+    long long evaluationCount = 0;
 };
 
 } // namespace OpenMMDPD

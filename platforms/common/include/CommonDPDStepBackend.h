@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_COMMONDPDSTEPBACKEND_H_
 #define OPENMMDPD_COMMONDPDSTEPBACKEND_H_
 
+#include "CommonDPDCalcForceKernel.h"
 #include "CommonDPDCellGrid.h"
 #include "DPDSchemeState.h"
 #include "DPDStepBackend.h"
@@ -22,6 +23,8 @@ namespace OpenMMDPD {
  *
  * Not yet on these platforms (each refused with an exception naming it): Lees-Edwards shear, stress
  * accumulation, NEMD and Norton forcing.  No fusion is declared: every operation is its own launch.
+ * The sweeps use the grid of the integrated DPDForce's evaluation at the same positions where its
+ * cutoff covers the friction's, as the host platforms share its pair list.
  */
 class CommonDPDStepBackend : public DPDStepBackend {
 public:
@@ -78,7 +81,9 @@ private:
     double kT;
     DPDTypePairTable::Compiled friction;
     unsigned long long frictionRevision;
-    std::unique_ptr<CommonDPDCellGrid> grid;
+    std::unique_ptr<CommonDPDCellGrid> ownGrid;
+    CommonDPDCellGrid* grid = nullptr;                      // the pairs of the sweeps: ownGrid or the DPDForce's
+    const CommonDPDCalcForceKernel* sharedForceKernel = nullptr; // an integrated DPDForce whose grid covers the friction cutoff
     CommonDPDKernel kickKernel, driftKernel, sweepKernel;
     OpenMM::ComputeArray typeOf, frictionValues, frictionCutoffs, storedForces, flags;
     bool pairsAtCurrentPositions = false; // the grid belongs to the current positions

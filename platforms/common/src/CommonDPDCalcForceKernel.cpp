@@ -49,5 +49,6 @@ double CommonDPDCalcForceKernel::execute(OpenMM::ContextImpl& context, bool incl
                     grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(),
                     typeOf, repulsion, cutoff, parameters.numTypes, parameters.maxCutoff, cc.getLongForceBuffer(), cc.getEnergyBuffer(),
                     includeForces ? 1 : 0, includeEnergy ? 1 : 0);
+    evaluationCount++;
     return 0.0; // the energy is in OpenMM's energy buffer
 }

@@ -2,6 +2,7 @@
 #include "CommonDPDProgram.h"
 #include "DPDFrictionTable.h"
 #include "openmm/OpenMMException.h"
+#include "openmmdpd/internal/DPDForceImpl.h"
 #include "openmm/common/ContextSelector.h"
 #include "openmm/common/IntegrationUtilities.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
@@ -46,7 +47,8 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
         throw OpenMM::OpenMMException("DPDIntegrator: constraints are not supported");
     OpenMM::ContextSelector selector(cc);
     OpenMM::ComputeProgram program = CommonDPDProgram::compile(cc, "DPDIntegrator");
-    grid = std::make_unique<CommonDPDCellGrid>(cc, program);
+    ownGrid = std::make_unique<CommonDPDCellGrid>(cc, program);
+    grid = ownGrid.get();
     kickKernel = CommonDPDKernel(program, "dpdKick");
     driftKernel = CommonDPDKernel(program, "dpdDrift");
     sweepKernel = CommonDPDKernel(program, "dpdSweepColour");
@@ -60,6 +62,15 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
     CommonDPDCellGrid::layOut(box, friction.maxCutoff, "DPDIntegrator");
     cc.addReorderListener(new AtomReorderListener(pairsAtCurrentPositions)); // the context owns and deletes it
+    for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
+        auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
+        if (forceImpl == nullptr || (integrationGroups & (1 << forceImpl->getOwner().getForceGroup())) == 0)
+            continue;
+        if (auto* kernel = dynamic_cast<const CommonDPDCalcForceKernel*>(&forceImpl->getKernel().getImpl())) {
+            sharedForceKernel = kernel;
+            break;
+        }
+    }
 }
 
 CommonDPDStepBackend::~CommonDPDStepBackend() = default;
@@ -162,10 +173,16 @@ void CommonDPDStepBackend::storeForces() {
 void CommonDPDStepBackend::evaluateForces(bool keepForces, bool needPairs) {
     state.storedForcesValid = false; // they belong to other positions now
     latestForcesStored = false;
+    long long evaluationsBefore = sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0;
     context.calcForcesAndEnergy(true, false, integrationGroups);
     OpenMM::ContextSelector selector(cc);
     if (friction.allValuesZero)
         pairsAtCurrentPositions = true; // no O sweep at zero friction, so no pair search either
+    else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore &&
+             sharedForceKernel->getCutoff() >= friction.maxCutoff) { // its cutoff may have changed since
+        grid = &sharedForceKernel->getGrid();
+        pairsAtCurrentPositions = true;
+    }
     else if (needPairs)
         findPairs();
     else
@@ -177,6 +194,7 @@ void CommonDPDStepBackend::findPairs() {
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
+    grid = ownGrid.get();
     grid->build(friction.maxCutoff, "DPDIntegrator");
     pairsAtCurrentPositions = true;
 }

@@ -1,0 +1,173 @@
+"""GPU benchmark (make bench-gpu): particle-steps per second of openmmdpd's ABOBA, S1 and VV (DPDForce)
+and OpenMM's own DPDIntegrator (the soft force as a CustomNonbondedForce, as make bench does) on every
+GPU platform this machine has (CUDA, OpenCL), soft fluid rho = 3, a = 25, r_c = 1, gamma = 4.5, kT = 1,
+dt = 0.04, OpenMM's default mixed precision.  Methods and sizes are interleaved round by round
+(A B C D A B C D ...) and the table gives medians.  One process per run (--child), so that each run's
+device memory is its own: "beyond OpenMM" is the device memory a run holds (nvidia-smi, CUDA machines)
+minus that of a Context with no force and a VerletIntegrator (OpenMM's own arrays).
+
+On OpenCL on a CPU (pocl) it runs the two smallest sizes only, and says that those figures tell nothing
+about GPUs: they check that the script and the platform work.
+
+Usage: python benchmarks/bench_gpu.py [--sizes N ...] [--rounds R] [--seconds S] [--out FILE.md]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+from typing import Dict, List, Optional
+
+METHODS = ("ABOBA", "S1", "VV", "OpenMM-DPD")
+BASELINE = "OpenMM-arrays"
+FRICTION, STEP = 4.5, 0.04
+
+
+def device_memory_mb() -> Optional[float]:
+    """Device memory in use (MiB) on the first GPU, from nvidia-smi; None without it."""
+    if shutil.which("nvidia-smi") is None:
+        return None
+    result = subprocess.run(["nvidia-smi", "--query-gpu=memory.used", "--format=csv,noheader,nounits", "-i", "0"],
+                            capture_output=True, text=True)
+    return float(result.stdout.split()[0]) if result.returncode == 0 else None
+
+
+def child(method: str, n: int, platform_name: str, seconds: float) -> None:
+    import numpy as np
+    import openmm as mm
+
+    import openmmdpd as dpd
+    from openmmdpd.study.scene import replace_with_custom_soft_force
+
+    before = device_memory_mb()
+    system, positions = dpd.soft_fluid(n, 3.0, seed=1)
+    if method in ("OpenMM-DPD",):
+        replace_with_custom_soft_force(system, 25.0, 1.0)
+    if method == "OpenMM-DPD":
+        integrator = mm.DPDIntegrator(dpd.REDUCED_TEMPERATURE, FRICTION, 1.0, STEP)
+    elif method == BASELINE:
+        system.removeForce(0)
+        integrator = mm.VerletIntegrator(STEP)
+    else:
+        integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, FRICTION, 1.0, STEP, method)
+    platform = mm.Platform.getPlatformByName(platform_name)
+    context = mm.Context(system, integrator, platform, {"Precision": "mixed"})
+    context.setPositions(np.asarray(positions.value_in_unit(positions.unit)))
+    context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 1)
+    integrator.step(5)
+    context.getState(getEnergy=True)  # drain the queue
+    steps, elapsed = 5, 0.0
+    while elapsed < seconds:  # a short run to size the timed one
+        steps *= 2
+        start = time.perf_counter()
+        integrator.step(steps)
+        context.getState(getEnergy=True)
+        elapsed = time.perf_counter() - start
+    after = device_memory_mb()
+    print(json.dumps({"seconds_per_step": elapsed / steps, "steps": steps,
+                      "device_memory_mb": None if before is None or after is None else after - before,
+                      "device": platform.getPropertyValue(context, "DeviceName")}))
+
+
+def run_child(method: str, n: int, platform_name: str, seconds: float) -> Optional[dict]:
+    result = subprocess.run([sys.executable, __file__, "--child", method, str(n), platform_name, str(seconds)],
+                            capture_output=True, text=True)
+    if result.returncode != 0:
+        print(f"  {platform_name} {method} N={n}: failed: {result.stderr.strip().splitlines()[-1:]}", flush=True)
+        return None
+    return json.loads(result.stdout.strip().splitlines()[-1])
+
+
+def gpu_platforms() -> List[str]:
+    import openmm as mm
+
+    import openmmdpd  # noqa: F401  (loads the plugins)
+    from openmmdpd import _plugin
+
+    names = [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
+    wanted = {"CUDA": "libOpenMMDPDCUDA.so", "OpenCL": "libOpenMMDPDOpenCL.so"}
+    found = []
+    for name, library in wanted.items():
+        if name not in names:
+            print(f"{name}: OpenMM has no {name} platform here")
+        elif library in _plugin.gpu_plugin_load_failures or not os.path.exists(os.path.join(_plugin._PACKAGE_DIR, library)):
+            print(f"{name}: openmmdpd's plugin did not load: {_plugin.gpu_plugin_load_failures.get(library, 'not built')}")
+        else:
+            found.append(name)
+    return found
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--child", nargs=4, metavar=("METHOD", "N", "PLATFORM", "SECONDS"), help=argparse.SUPPRESS)
+    parser.add_argument("--sizes", type=int, nargs="+", default=[10_000, 100_000, 1_000_000, 10_000_000])
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--seconds", type=float, default=1.0, help="stepping time per run (s)")
+    parser.add_argument("--out", default=None, help="also write the tables (markdown) there")
+    args = parser.parse_args()
+    if args.child:
+        method, n, platform_name, seconds = args.child
+        child(method, int(n), platform_name, float(seconds))
+        return
+
+    began = time.time()
+    lines = ["# make bench-gpu", "", f"Command: `{' '.join([os.path.basename(sys.executable)] + sys.argv)}`; "
+             f"soft fluid rho = 3, a = 25, r_c = 1, gamma = {FRICTION}, dt = {STEP}, mixed precision; "
+             f"{args.rounds} interleaved rounds, medians.", ""]
+    for platform_name in gpu_platforms():
+        probe = run_child(BASELINE, min(args.sizes), platform_name, 0.05)
+        device = probe["device"] if probe else "?"
+        on_cpu = platform_name == "OpenCL" and any(word in device.lower() for word in ("pthread", "cpu", "pocl"))
+        sizes = sorted(args.sizes)[:2] if on_cpu else sorted(args.sizes)
+        samples: Dict[tuple, List[dict]] = {}
+        for round_index in range(args.rounds):
+            for n in sizes:
+                for method in METHODS + (BASELINE,):
+                    if method == BASELINE and round_index > 0:
+                        continue  # memory only
+                    sample = run_child(method, n, platform_name, args.seconds if method != BASELINE else 0.05)
+                    if sample is None:
+                        if method != BASELINE:
+                            break  # out of memory at this size: larger ones will not fit either
+                        continue
+                    samples.setdefault((method, n), []).append(sample)
+                    print(f"  round {round_index + 1} {platform_name} {method} N={n}: "
+                          f"{n / sample['seconds_per_step']:.3g} particle-steps/s", flush=True)
+        lines += [f"## {platform_name}: {device}", ""]
+        if on_cpu:
+            lines += ["OpenCL on the CPU (pocl): these figures check that the platform runs; they mean nothing "
+                      "about GPUs.", ""]
+        lines += ["| N | method | particle-steps/s | ms/step | ÷ OpenMM-DPD per step | device MiB beyond OpenMM's "
+                  "arrays (B/particle) |", "|---|---|---|---|---|---|"]
+        for n in sizes:
+            baseline = samples.get((BASELINE, n), [{}])[0].get("device_memory_mb")
+            openmm_dpd = samples.get(("OpenMM-DPD", n))
+            for method in METHODS:
+                runs = samples.get((method, n))
+                if not runs:
+                    lines.append(f"| {n} | {method} | did not run | | | |")
+                    continue
+                seconds = statistics.median(r["seconds_per_step"] for r in runs)
+                ratio = (statistics.median(r["seconds_per_step"] for r in openmm_dpd) / seconds) if openmm_dpd else None
+                memory = runs[0].get("device_memory_mb")
+                beyond = "n/a (no nvidia-smi)" if memory is None or baseline is None else \
+                    f"{memory - baseline:.0f} ({(memory - baseline) * 2**20 / n:.0f})"
+                lines.append(f"| {n} | {method} | {n / seconds:.3g} | {1e3 * seconds:.3g} | "
+                             f"{'' if ratio is None else f'{ratio:.2f}×'} | {beyond} |")
+        lines.append("")
+    lines.append(f"Wall time: {time.time() - began:.0f} s.")
+    text = "\n".join(lines)
+    print(text)
+    if args.out:
+        with open(args.out, "w") as file:
+            file.write(text + "\n")
+
+
+if __name__ == "__main__":
+    main()
