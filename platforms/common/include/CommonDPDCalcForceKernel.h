@@ -30,13 +30,20 @@ public:
     /** Counts evaluations, so a reader can tell whether the grid belongs to the positions it holds. */
     long long getEvaluationCount() const { return evaluationCount; }
     double getCutoff() const { return parameters.maxCutoff; }
+    /**
+     * While set, every evaluation also writes each particle's half of sum_j r_ij (x) F_ij to
+     * getVirialRows() (6 per particle): the conservative part of the stress from the force pass itself.
+     */
+    void setComputeVirial(bool compute);
+    OpenMM::ComputeArray& getVirialRows() { return virialRows; }
 
 private:
     void uploadParameters(const DPDTypePairTable::Compiled& compiled);
     OpenMM::ComputeContext& cc;
     std::unique_ptr<CommonDPDCellGrid> grid;
     CommonDPDKernel forceKernel;
-    OpenMM::ComputeArray typeOf, repulsion, cutoff;
+    OpenMM::ComputeArray typeOf, repulsion, cutoff, virialRows;
+    bool computeVirial = false;
     DPDTypePairTable::Compiled parameters;
     long long evaluationCount = 0;
 };

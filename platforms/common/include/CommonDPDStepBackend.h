@@ -3,6 +3,7 @@
 
 #include "CommonDPDCalcForceKernel.h"
 #include "CommonDPDCellGrid.h"
+#include "CommonDPDStressAccumulator.h"
 #include "DPDSchemeState.h"
 #include "DPDStepBackend.h"
 #include "openmm/common/ComputeArray.h"
@@ -10,6 +11,7 @@
 #include "openmm/internal/ContextImpl.h"
 #include "openmmdpd/DPDTypePairTable.h"
 #include <memory>
+#include <string>
 
 namespace OpenMMDPD {
 
@@ -21,8 +23,8 @@ namespace OpenMMDPD {
  * for bit.  Nothing is read back per step: a non-finite or runaway state is recorded on the device
  * and reported by checkSoundness() once per step() call, naming the first step at which it was seen.
  *
- * Not yet on these platforms (each refused with an exception naming it): Lees-Edwards shear, stress
- * accumulation, NEMD and Norton forcing.  No fusion is declared: every operation is its own launch.
+ * Not yet on these platforms (each refused with an exception naming it): Lees-Edwards shear, NEMD and
+ * Norton forcing, and stress accumulation for a System with forces other than one DPDForce.  No fusion is declared: every operation is its own launch.
  * The sweeps use the grid of the integrated DPDForce's evaluation at the same positions where its
  * cutoff covers the friction's, as the host platforms share its pair list.
  */
@@ -35,7 +37,7 @@ public:
     bool isFrictionless() const override { return friction.allValuesZero; }
     int getNumParticles() const override { return cc.getNumAtoms(); }
     void endStep(double stepSize, double stressScale) override;
-    void abandonStep() override {}
+    void abandonStep() override;
     long long getStepCount() const override { return cc.getStepCount(); }
     DPDFusionSupport fusionSupport() const override { return DPDFusionSupport(); }
 
@@ -57,9 +59,9 @@ public:
 
     std::vector<OpenMM::Vec3> getStoredForces(OpenMM::Vec3* box) const override;
     void setStoredForces(std::vector<OpenMM::Vec3> forces, const OpenMM::Vec3* box) override;
-    DPDIntegrator::StressStatistics& stressStatistics() override { return noStress; }
-    const DPDIntegrator::StressStatistics& stressStatistics() const override { return noStress; }
-    void resetStressStatistics() override {}
+    DPDIntegrator::StressStatistics& stressStatistics() override { return stress->statisticsToWrite(); }
+    const DPDIntegrator::StressStatistics& stressStatistics() const override { return stress->statistics(); }
+    void resetStressStatistics() override { stress->reset(); }
 
     double computeKineticEnergy();
     /** Positions, velocities or parameters were set from outside (checked before the next step). */
@@ -83,7 +85,10 @@ private:
     unsigned long long frictionRevision;
     std::unique_ptr<CommonDPDCellGrid> ownGrid;
     CommonDPDCellGrid* grid = nullptr;                      // the pairs of the sweeps: ownGrid or the DPDForce's
-    const CommonDPDCalcForceKernel* sharedForceKernel = nullptr; // an integrated DPDForce whose grid covers the friction cutoff
+    CommonDPDCalcForceKernel* sharedForceKernel = nullptr; // the integrated DPDForce (its grid, its force pass's virial)
+    std::unique_ptr<CommonDPDStressAccumulator> stress;
+    bool accumulateStress = false;
+    std::string forceWithoutStress; // an integrated force whose stress these platforms cannot take yet ("": none)
     CommonDPDKernel kickKernel, driftKernel, sweepKernel;
     OpenMM::ComputeArray typeOf, frictionValues, frictionCutoffs, storedForces, flags;
     bool pairsAtCurrentPositions = false; // the grid belongs to the current positions
@@ -91,7 +96,6 @@ private:
     bool externalStateUnchecked = true;
     OpenMM::Vec3 boxOfStoredForces[3];
     double maxDisplacementPerDrift = 0.0;
-    DPDIntegrator::StressStatistics noStress;
 };
 
 } // namespace OpenMMDPD

@@ -39,6 +39,12 @@ void CommonDPDCalcForceKernel::copyParametersToContext(OpenMM::ContextImpl& cont
     uploadParameters(parameters);
 }
 
+void CommonDPDCalcForceKernel::setComputeVirial(bool compute) {
+    computeVirial = compute;
+    if (compute && !virialRows.isInitialized())
+        virialRows.initialize<double>(cc, 6*cc.getNumAtoms(), "dpdVirialRows");
+}
+
 double CommonDPDCalcForceKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
     OpenMM::ContextSelector selector(cc);
     OpenMM::Vec3 box[3];
@@ -48,7 +54,7 @@ double CommonDPDCalcForceKernel::execute(OpenMM::ContextImpl& context, bool incl
     forceKernel.run(cc.getNumAtoms(), -1, cc.getNumAtoms(), cc.getPosq(), grid->getBoxSize(), grid->getInverseBoxSize(),
                     grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(),
                     typeOf, repulsion, cutoff, parameters.numTypes, parameters.maxCutoff, cc.getLongForceBuffer(), cc.getEnergyBuffer(),
-                    includeForces ? 1 : 0, includeEnergy ? 1 : 0);
+                    includeForces ? 1 : 0, includeEnergy ? 1 : 0, computeVirial ? virialRows : typeOf, computeVirial ? 1 : 0);
     evaluationCount++;
     return 0.0; // the energy is in OpenMM's energy buffer
 }

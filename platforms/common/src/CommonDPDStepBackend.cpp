@@ -62,15 +62,24 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
     CommonDPDCellGrid::layOut(box, friction.maxCutoff, "DPDIntegrator");
     cc.addReorderListener(new AtomReorderListener(pairsAtCurrentPositions)); // the context owns and deletes it
+    stress = std::make_unique<CommonDPDStressAccumulator>(cc, program);
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
-        auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
-        if (forceImpl == nullptr || (integrationGroups & (1 << forceImpl->getOwner().getForceGroup())) == 0)
+        if ((integrationGroups & (1 << impl->getOwner().getForceGroup())) == 0)
             continue;
-        if (auto* kernel = dynamic_cast<const CommonDPDCalcForceKernel*>(&forceImpl->getKernel().getImpl())) {
+        auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
+        auto* kernel = forceImpl == nullptr ? nullptr : dynamic_cast<CommonDPDCalcForceKernel*>(&forceImpl->getKernel().getImpl());
+        if (kernel != nullptr && sharedForceKernel == nullptr)
             sharedForceKernel = kernel;
-            break;
-        }
+        else if (forceWithoutStress.empty())
+            forceWithoutStress = kernel != nullptr ? "a second DPDForce" : impl->getOwner().getName();
     }
+    if (sharedForceKernel == nullptr && forceWithoutStress.empty())
+        forceWithoutStress = "no DPDForce";
+}
+
+void CommonDPDStepBackend::abandonStep() {
+    if (sharedForceKernel != nullptr)
+        sharedForceKernel->setComputeVirial(false);
 }
 
 CommonDPDStepBackend::~CommonDPDStepBackend() = default;
@@ -96,8 +105,8 @@ void CommonDPDStepBackend::uploadFriction(const DPDIntegrator& integrator) {
 void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
     if (integrator.getShearRate() != 0.0)
         notYetOnThisPlatform("Lees-Edwards shear (setLeesEdwards)");
-    if (integrator.getStressAccumulation())
-        notYetOnThisPlatform("stress accumulation (setStressAccumulation)");
+    if (integrator.getStressAccumulation() && !forceWithoutStress.empty())
+        notYetOnThisPlatform("stress accumulation (setStressAccumulation) with " + forceWithoutStress + " among the integrated forces");
     if (integrator.getForcingMode() != DPDIntegrator::NoForcing)
         notYetOnThisPlatform(integrator.getForcingMode() == DPDIntegrator::NEMD ? "NEMD forcing" : "Norton forcing");
     OpenMM::ContextSelector selector(cc);
@@ -118,6 +127,11 @@ void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
         if (box[k] != boxOfStoredForces[k])
             state.storedForcesValid = false;
     state.keepStoredForcesThroughStateChanges = false;
+    accumulateStress = integrator.getStressAccumulation();
+    if (accumulateStress) { // the DPDForce's force pass gives the conservative part at the step's evaluation
+        stress->beginSample();
+        sharedForceKernel->setComputeVirial(true);
+    }
 }
 
 void CommonDPDStepBackend::checkExternalState() const {
@@ -151,6 +165,13 @@ long long CommonDPDStepBackend::takeFirstUnsoundStep() {
 }
 
 void CommonDPDStepBackend::endStep(double stepSize, double stressScale) {
+    if (accumulateStress) {
+        OpenMM::ContextSelector selector(cc);
+        sharedForceKernel->setComputeVirial(false);
+        Vec3 box[3];
+        cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        stress->endSample(box[0][0]*box[1][1]*box[2][2], stressScale);
+    }
     cc.setTime(cc.getTime()+stepSize);
     cc.setStepCount(cc.getStepCount()+1);
     cc.reorderAtoms(); // as OpenMM's integrators do (it acts every so many steps, and only with cutoff forces)
@@ -176,6 +197,8 @@ void CommonDPDStepBackend::evaluateForces(bool keepForces, bool needPairs) {
     long long evaluationsBefore = sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0;
     context.calcForcesAndEnergy(true, false, integrationGroups);
     OpenMM::ContextSelector selector(cc);
+    if (accumulateStress) // the latest evaluation's conservative part is the step's
+        stress->takeConservative(sharedForceKernel->getVirialRows());
     if (friction.allValuesZero)
         pairsAtCurrentPositions = true; // no O sweep at zero friction, so no pair search either
     else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore &&
@@ -239,6 +262,8 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
     // VV's F^D + F^R go to the latest forces: the Context's, or the stored copy (at the start of a run).
     OpenMM::ArrayInterface& forces = latestForcesStored ? static_cast<OpenMM::ArrayInterface&>(storedForces) : cc.getLongForceBuffer();
     int forcesStored = latestForcesStored ? 1 : 0;
+    int gatherStress = accumulateStress && request.gatherStress ? 1 : 0;
+    OpenMM::ComputeArray& blockStress = stress->blockRows(layout.blocksPerColour);
     for (int n = 0; n < layout.numColours; n++) {
         int colour = request.reversed ? layout.numColours-1-n : n;
         if (!layout.colourIsUsed(colour))
@@ -247,12 +272,15 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
             sweepKernel.run(layout.blocksPerColour, -1, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(),
                             grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
-                            friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored);
+                            friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress,
+                            blockStress);
         else
             sweepKernel.run(layout.blocksPerColour, -1, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(),
                             cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
-                            request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored);
+                            request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress, blockStress);
+        if (gatherStress)
+            stress->addSweepColour(layout.blocksPerColour);
     }
 }
 

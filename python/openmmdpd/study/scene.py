@@ -16,7 +16,11 @@ import tomllib  # Python >= 3.11, as pyproject.toml requires
 
 #: Methods a scene may name: the plugin's schemes with the scene's own conservative force, ABOBA with
 #: the soft force written as an OpenMM CustomNonbondedForce, and OpenMM's built-in DPDIntegrator.
-METHODS = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB", "ABOBA-CustomNonbonded", "OpenMM-DPD")
+METHODS = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB", "ABOBA-CustomNonbonded", "OpenMM-DPD", "OpenMM-DPD-OpenCL",
+           "ABOBA-OpenCL")
+#: Methods that run on OpenMM's OpenCL platform (double precision; on a machine without a GPU, pocl on the
+#: CPU): the accuracy of the GPU code paths, measured without a GPU.  Their times per step are pocl's.
+OPENCL_METHODS = ("OpenMM-DPD-OpenCL", "ABOBA-OpenCL")
 #: What each method label means (the report's legend).
 METHOD_DESCRIPTIONS = {
     "VV": "openmmdpd.DPDIntegrator, scheme VV (velocity Verlet, dissipative and random forces reused; "
@@ -35,6 +39,12 @@ METHOD_DESCRIPTIONS = {
                              "(the cost of the force seen apart from the accuracy of the scheme)",
     "OpenMM-DPD": "OpenMM's built-in openmm.DPDIntegrator (its Reference kernel, also on the CPU platform), "
                   "soft force as a CustomNonbondedForce",
+    "OpenMM-DPD-OpenCL": "OpenMM's built-in openmm.DPDIntegrator on its OpenCL platform (double precision): its GPU "
+                         "kernel, which updates all pairs at once from the pre-step velocities (a simultaneous O "
+                         "step) where its Reference kernel sweeps them one after another; soft force as a "
+                         "CustomNonbondedForce",
+    "ABOBA-OpenCL": "openmmdpd.DPDIntegrator, scheme ABOBA, on the OpenCL platform (double precision): the GPU "
+                    "platform's exact successive sweep, colour by colour over the device cell grid",
 }
 OBSERVABLES = ("configurational_temperature", "kinetic_temperature", "rdf", "pressure", "shear_viscosity")
 #: Methods that run under Lees-Edwards shear (OpenMM's own DPDIntegrator has no sheared boundary).
@@ -107,16 +117,16 @@ class Scene:
         """The System (with the conservative force the method uses), positions (nm) and integrator
         (at the timing step size); ``seed`` seeds the positions and the random forces."""
         system, positions = make_fluid(self.system, seed)
-        if self.system["kind"] == "soft_fluid" and method in ("ABOBA-CustomNonbonded", "OpenMM-DPD"):
+        if self.system["kind"] == "soft_fluid" and method in ("ABOBA-CustomNonbonded", "OpenMM-DPD", "OpenMM-DPD-OpenCL"):
             replace_with_custom_soft_force(system, self.system["a"], self.system["cutoff"])
         return system, positions, self.integrator(method, self.timing_stepsize, seed)
 
     def integrator(self, method: str, step_size: float, seed: int) -> mm.Integrator:
         """The integrator of ``method`` at ``step_size`` (ps), its random forces seeded with ``seed``."""
-        if method == "OpenMM-DPD":
+        if method in ("OpenMM-DPD", "OpenMM-DPD-OpenCL"):
             integrator = mm.DPDIntegrator(dpd.REDUCED_TEMPERATURE, self.friction, self.dissipative_cutoff, step_size)
         else:
-            scheme = "ABOBA" if method == "ABOBA-CustomNonbonded" else method
+            scheme = "ABOBA" if method in ("ABOBA-CustomNonbonded", "ABOBA-OpenCL") else method
             integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, self.friction, self.dissipative_cutoff, step_size, scheme)
             if self.shear_rate > 0:
                 integrator.setLeesEdwards(self.shear_rate)

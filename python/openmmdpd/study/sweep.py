@@ -12,7 +12,7 @@ import openmm as mm
 import openmmdpd as dpd
 from openmmdpd.shear import streaming_profile
 
-from .scene import Budget, Scene
+from .scene import OPENCL_METHODS, Budget, Scene
 
 
 @dataclass
@@ -39,8 +39,12 @@ class RunResult:
     box_height: float = 0.0
 
 
-def platform_properties(threads: int) -> dict:
-    return {"Threads": str(threads)}
+def method_platform(method: str, threads: int) -> Tuple[mm.Platform, dict]:
+    """The platform a method runs on and its properties: the CPU with ``threads`` threads, or OpenCL in
+    double precision for the OPENCL_METHODS."""
+    if method in OPENCL_METHODS:
+        return mm.Platform.getPlatformByName("OpenCL"), {"Precision": "double"}
+    return mm.Platform.getPlatformByName("CPU"), {"Threads": str(threads)}
 
 
 def symmetric_xy(tensor: np.ndarray) -> float:
@@ -55,7 +59,7 @@ def run_one(scene: Scene, method: str, step_size: float, run: int, budget: Budge
     result = RunResult(scene.name, method, float(step_size), run)
     system, positions, _ = scene.build(method, seed)
     integrator = scene.integrator(method, step_size, seed)
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName("CPU"), platform_properties(1))
+    context = mm.Context(system, integrator, *method_platform(method, 1))
     context.setPositions(positions)
     context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, seed)
     if scene.shear_rate > 0:  # a centre-of-mass velocity along y would carry the profile along x
@@ -129,7 +133,7 @@ def _timing_context(scene: Scene, method: str, threads: int, warmup: int) -> Tup
     for step_size in (scene.timing_stepsize, scene.stepsizes[0], scene.stepsizes[0] / 4):
         system, positions, _ = scene.build(method, seed=1)
         integrator = scene.integrator(method, step_size, seed=1)
-        context = mm.Context(system, integrator, mm.Platform.getPlatformByName("CPU"), platform_properties(threads))
+        context = mm.Context(system, integrator, *method_platform(method, threads))
         context.setPositions(positions)
         context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 1)
         try:

@@ -6,6 +6,7 @@
 
 #include "../DPDTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
+#include "openmm/HarmonicBondForce.h"
 #include "openmm/VerletIntegrator.h"
 #include "openmm/OpenMMException.h"
 #include <gtest/gtest.h>
@@ -272,7 +273,108 @@ TEST(OpenCLPlatform, WhatThePlatformCannotDoYetRaisesNamingIt) {
         }
     };
     expectRefused([](DPDIntegrator& integrator) { integrator.setLeesEdwards(0.1); }, "Lees-Edwards shear");
-    expectRefused([](DPDIntegrator& integrator) { integrator.setStressAccumulation(true); }, "stress accumulation");
+    auto* bonds = new HarmonicBondForce();
+    bonds->addBond(0, 1, 0.5, 10.0);
+    fluid.system->addForce(bonds);
+    expectRefused([](DPDIntegrator& integrator) { integrator.setStressAccumulation(true); },
+                  "stress accumulation (setStressAccumulation) with HarmonicBondForce");
+}
+
+namespace {
+
+/** The four parts of the stress statistics, one after another (36 values). */
+std::vector<double> stressParts(const DPDIntegrator::StressStatistics& statistics) {
+    std::vector<double> parts;
+    for (const double* part : {statistics.kinetic, statistics.conservative, statistics.dissipative, statistics.random})
+        parts.insert(parts.end(), part, part+9);
+    return parts;
+}
+
+} // namespace
+
+TEST(OpenCLStress, VelocityVerletSamplesMatchReference) {
+    // VV's step does not depend on the pair order (see VelocityVerletStepMatchesReference), so its stress
+    // samples must agree with Reference part by part: kinetic and conservative (the DPDForce's force
+    // pass) at q^{n+1}, dissipative and random from F^D + F^R.  Double precision; tolerance 1e-9 of
+    // each part's largest entry (fixed-point forces give ~1e-11).
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    DPDIntegrator reference(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::VV), device(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::VV);
+    for (DPDIntegrator* integrator : {&reference, &device}) {
+        integrator->setRandomNumberSeed(77);
+        integrator->setStressAccumulation(true);
+    }
+    auto referenceContext = makeContext(start, reference, "Reference");
+    auto deviceContext = openCLContext(*start.fluid.system, device);
+    deviceContext->setPositions(start.fluid.positions);
+    deviceContext->setVelocities(start.velocities);
+    reference.step(3);
+    device.step(3);
+    DPDIntegrator::StressStatistics expected = reference.getStressStatistics(), actual = device.getStressStatistics();
+    EXPECT_EQ(actual.steps, 3);
+    std::vector<double> e = stressParts(expected), a = stressParts(actual);
+    const char* names[4] = {"kinetic", "conservative", "dissipative", "random"};
+    for (int part = 0; part < 4; part++) {
+        double scale = 0.0;
+        for (int k = 0; k < 9; k++)
+            scale = std::max(scale, std::fabs(e[9*part+k]));
+        ASSERT_GT(scale, 0.0) << names[part];
+        for (int k = 0; k < 9; k++)
+            EXPECT_NEAR(a[9*part+k], e[9*part+k], 1e-9*scale) << names[part] << " entry " << k;
+    }
+}
+
+TEST(OpenCLStress, AccumulatingStressLeavesTheTrajectoryAlone) {
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    for (const char* scheme : {"ABOBA", "S1", "BAOOAB"}) {
+        Snapshot runs[2];
+        for (int withStress = 0; withStress < 2; withStress++) {
+            DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, scheme);
+            integrator.setRandomNumberSeed(5);
+            integrator.setStressAccumulation(withStress == 1);
+            auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+            context->setPositions(start.fluid.positions);
+            context->setVelocities(start.velocities);
+            integrator.step(60);
+            runs[withStress] = snapshot(*context);
+            if (withStress == 1) {
+                EXPECT_EQ(integrator.getStressStatistics().steps, 60);
+            }
+        }
+        EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << scheme;
+    }
+}
+
+TEST(OpenCLStress, ABOBAPressureAgreesWithTheCPU) {
+    // ABOBA at gamma = 40.5, dt = 0.03, N = 375: the pressure tr(sigma)/3 of every part summed (the
+    // O sweep's dissipative and random parts included), sampled as the mean over each 10 steps, 60
+    // samples after 100 steps, on OpenCL (mixed) and on the CPU; the two means must agree within 5
+    // combined block standard errors (the sweep orders differ, the distributions must not).
+    EquilibratedFluid start = equilibratedSoftFluid(375);
+    BlockEstimate pressure[2];
+    const char* platforms[2] = {"OpenCL", "CPU"};
+    for (int p = 0; p < 2; p++) {
+        DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, DPDIntegrator::ABOBA);
+        integrator.setRandomNumberSeed(21);
+        integrator.setStressAccumulation(true);
+        auto context = p == 0 ? openCLContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
+        context->setPositions(start.fluid.positions);
+        context->setVelocities(start.velocities);
+        integrator.step(100);
+        std::vector<double> samples;
+        for (int k = 0; k < 60; k++) {
+            integrator.resetStressStatistics();
+            integrator.step(10);
+            DPDIntegrator::StressStatistics s = integrator.getStressStatistics();
+            double trace = 0.0;
+            for (const double* part : {s.kinetic, s.conservative, s.dissipative, s.random})
+                trace += part[0]+part[4]+part[8];
+            samples.push_back(-trace/(3.0*s.steps));
+        }
+        pressure[p] = blockAverage(samples, 12);
+        std::printf("[ measured ] %s ABOBA pressure %.4f +- %.4f\n", platforms[p], pressure[p].mean, pressure[p].standardError);
+    }
+    EXPECT_NEAR(pressure[0].mean, pressure[1].mean, 5*std::hypot(pressure[0].standardError, pressure[1].standardError));
+    EXPECT_GT(pressure[0].mean, 10.0); // the soft fluid at density 3: p ~ 23 (Groot and Warren), far from 0
 }
 
 TEST(OpenCLPlatform, BoxNarrowerThanThreeCutoffsRaises) {

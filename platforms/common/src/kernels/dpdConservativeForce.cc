@@ -13,7 +13,7 @@ KERNEL void dpdConservativeForces(int numAtoms, GLOBAL const real4* RESTRICT pos
                                   GLOBAL const int* RESTRICT typeOf, GLOBAL const double* RESTRICT repulsion,
                                   GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff,
                                   GLOBAL mm_long* RESTRICT forceBuffer, GLOBAL mixed* RESTRICT energyBuffer,
-                                  int includeForces, int includeEnergy) {
+                                  int includeForces, int includeEnergy, GLOBAL double* RESTRICT virialRows, int computeVirial) {
     double energy = 0.0;
     double maxCutoff2 = maxCutoff*maxCutoff;
     for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
@@ -22,6 +22,7 @@ KERNEL void dpdConservativeForces(int numAtoms, GLOBAL const real4* RESTRICT pos
         int cell = cellOf[i];
         int cx = cell%numCells.x, cy = (cell/numCells.x)%numCells.y, cz = cell/(numCells.x*numCells.y);
         mm_long fx = 0, fy = 0, fz = 0;
+        double virial[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; // half of sum_j r_ij (x) F_ij: each pair is seen twice
         for (int dz = -1; dz <= 1; dz++)
             for (int dy = -1; dy <= 1; dy++)
                 for (int dx = -1; dx <= 1; dx++) {
@@ -49,6 +50,15 @@ KERNEL void dpdConservativeForces(int numAtoms, GLOBAL const real4* RESTRICT pos
                         fy += (mm_long) (forceOverR*deltaY*(double) 0x100000000);
                         fz += (mm_long) (forceOverR*deltaZ*(double) 0x100000000);
                         energy += 0.25*repulsion[pairType]*rc*w*w; // half of the pair's energy: each pair is seen twice
+                        if (computeVirial) {
+                            double halfForceOverR = 0.5*forceOverR;
+                            virial[0] += halfForceOverR*deltaX*deltaX;
+                            virial[1] += halfForceOverR*deltaY*deltaY;
+                            virial[2] += halfForceOverR*deltaZ*deltaZ;
+                            virial[3] += halfForceOverR*deltaX*deltaY;
+                            virial[4] += halfForceOverR*deltaX*deltaZ;
+                            virial[5] += halfForceOverR*deltaY*deltaZ;
+                        }
                     }
                 }
         if (includeForces) {
@@ -56,6 +66,9 @@ KERNEL void dpdConservativeForces(int numAtoms, GLOBAL const real4* RESTRICT pos
             forceBuffer[i+PADDED_NUM_ATOMS] += fy;
             forceBuffer[i+2*PADDED_NUM_ATOMS] += fz;
         }
+        if (computeVirial) // the conservative part of the stress (dpdStress.cc), row i
+            for (int k = 0; k < 6; k++)
+                virialRows[6*i+k] = virial[k];
     }
     if (includeEnergy)
         energyBuffer[GLOBAL_ID] += (mixed) energy;

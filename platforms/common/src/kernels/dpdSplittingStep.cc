@@ -115,7 +115,7 @@ DEVICE void dpdSweepPair(int i, int j, DPD_POSITIONS, double4 boxSize, double4 i
                          GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT typeOf,
                          GLOBAL const double* RESTRICT friction, GLOBAL const double* RESTRICT cutoff, int numTypes,
                          double maxCutoff2, double kT, double dt, mm_ulong randomKey, int mode, GLOBAL mm_long* RESTRICT forces,
-                         int forcesStored) {
+                         int forcesStored, int gatherStress, double* stress) {
     mixed4 pi = DPD_POSITION(i), pj = DPD_POSITION(j);
     double deltaX = dpdMinimumImage((double) pi.x-(double) pj.x, boxSize.x, inverseBoxSize.x);
     double deltaY = dpdMinimumImage((double) pi.y-(double) pj.y, boxSize.y, inverseBoxSize.y);
@@ -143,6 +143,17 @@ DEVICE void dpdSweepPair(int i, int j, DPD_POSITIONS, double4 boxSize, double4 i
         update = dissipativeAndRandomForce(gamma, w, kT, dt, dpdNormal(R));
     double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z);
     double change = dpdMomentumChange(update, u);
+    if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts: stress[0..6), [6..12)
+        double parts[2] = {r*dpdDissipativePart(update, u), r*update.offset};
+        for (int p = 0; p < 2; p++) {
+            stress[6*p] += parts[p]*ex*ex;
+            stress[6*p+1] += parts[p]*ey*ey;
+            stress[6*p+2] += parts[p]*ez*ez;
+            stress[6*p+3] += parts[p]*ex*ey;
+            stress[6*p+4] += parts[p]*ex*ez;
+            stress[6*p+5] += parts[p]*ey*ez;
+        }
+    }
     if (mode == DPD_SWEEP_DISSIPATIVE_AND_RANDOM_FORCES) {
         mm_long fx = (mm_long) (change*ex*DPD_FIXED_POINT_SCALE), fy = (mm_long) (change*ey*DPD_FIXED_POINT_SCALE);
         mm_long fz = (mm_long) (change*ez*DPD_FIXED_POINT_SCALE);
@@ -186,7 +197,8 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                            GLOBAL const int* RESTRICT cellAtoms, GLOBAL const int* RESTRICT atomIndex,
                            GLOBAL const int* RESTRICT typeOf, GLOBAL const double* RESTRICT friction,
                            GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff, double kT, double dt,
-                           mm_ulong randomKey, int mode, int reversed, GLOBAL mm_long* RESTRICT forces, int forcesStored) {
+                           mm_ulong randomKey, int mode, int reversed, GLOBAL mm_long* RESTRICT forces, int forcesStored,
+                           int gatherStress, GLOBAL double* RESTRICT blockStress) {
     double maxCutoff2 = maxCutoff*maxCutoff;
     int halfX = numBlocks.x == 1 ? 1 : numBlocks.x/2, halfY = numBlocks.y == 1 ? 1 : numBlocks.y/2;
     for (int b = GLOBAL_ID; b < blocksInColour; b += GLOBAL_SIZE) {
@@ -198,6 +210,7 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
         int y0 = by*numCells.y/numBlocks.y, y1 = (by+1)*numCells.y/numBlocks.y;
         int z0 = bz*numCells.z/numBlocks.z, z1 = (bz+1)*numCells.z/numBlocks.z;
         int sizeX = x1-x0, sizeY = y1-y0, numBlockCells = sizeX*sizeY*(z1-z0);
+        double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
         for (int n = 0; n < numBlockCells; n++) {
             int m = reversed ? numBlockCells-1-n : n;
             int cx = x0+m%sizeX, cy = y0+(m/sizeX)%sizeY, cz = z0+m/(sizeX*sizeY);
@@ -222,14 +235,17 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                         int j = cellAtoms[reversed ? last-1-t : first+t];
 #ifdef USE_MIXED_PRECISION
                         dpdSweepPair(i, j, posq, posqCorrection, boxSize, inverseBoxSize, velm, atomIndex, typeOf, friction, cutoff,
-                                     numTypes, maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored);
+                                     numTypes, maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored, gatherStress, stress);
 #else
                         dpdSweepPair(i, j, posq, boxSize, inverseBoxSize, velm, atomIndex, typeOf, friction, cutoff, numTypes,
-                                     maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored);
+                                     maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored, gatherStress, stress);
 #endif
                     }
                 }
             }
         }
+        if (gatherStress) // this block's row of the sweep's pair stress (dpdStress.cc sums the rows in order)
+            for (int k = 0; k < 12; k++)
+                blockStress[12*b+k] = stress[k];
     }
 }

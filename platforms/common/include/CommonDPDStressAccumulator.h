@@ -1,0 +1,50 @@
+#ifndef OPENMMDPD_COMMONDPDSTRESSACCUMULATOR_H_
+#define OPENMMDPD_COMMONDPDSTRESSACCUMULATOR_H_
+
+#include "CommonDPDKernel.h"
+#include "openmm/common/ComputeArray.h"
+#include "openmm/common/ComputeContext.h"
+#include "openmmdpd/DPDIntegrator.h"
+
+namespace OpenMMDPD {
+
+/**
+ * The integrator's stress sums on the GPU platforms (dpdStress.cc): one sample per step of the
+ * Irving-Kirkwood stress (Shang 2021 eq. 3.3) in the parts of DPDIntegrator::StressStatistics, as the
+ * host platforms take it (DPDStressAccumulator): the kinetic part at the step's end, the conservative
+ * part from the DPDForce's force pass at the step's evaluation, the dissipative and random parts from
+ * the sweeps' pair updates.  Everything stays on the device; the statistics are read when asked.
+ * Nothing is computed unless the integrator asks for stress.
+ */
+class CommonDPDStressAccumulator {
+public:
+    CommonDPDStressAccumulator(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram& program);
+    /** Before a sampled step: clear the step's sums (and upload statistics set from the host, e.g. a checkpoint). */
+    void beginSample();
+    /** Rows of the sweep kernel's per-block pair stress, at least `blocks` of them. */
+    OpenMM::ComputeArray& blockRows(int blocks);
+    /** Add `blocks` rows of blockRows() (one colour of a sweep) to the step's dissipative and random parts. */
+    void addSweepColour(int blocks);
+    /** The step's conservative part: the sum of the DPDForce's per-particle virial rows (the latest evaluation's). */
+    void takeConservative(OpenMM::ComputeArray& virialRows);
+    /** After the step: the kinetic part at these velocities, then the sample into the statistics (pair parts times pairScale). */
+    void endSample(double volume, double pairScale);
+
+    const DPDIntegrator::StressStatistics& statistics() const;
+    /** For writing: the next sample uploads what is written here first. */
+    DPDIntegrator::StressStatistics& statisticsToWrite();
+    void reset();
+
+private:
+    void download() const;
+    OpenMM::ComputeContext& cc;
+    CommonDPDKernel kineticTensor, sumRows, accumulate;
+    OpenMM::ComputeArray kineticRows, pairRows, stepSums, sums;
+    mutable DPDIntegrator::StressStatistics hostCopy;
+    long long steps = 0;
+    bool uploadPending = false;
+};
+
+} // namespace OpenMMDPD
+
+#endif
