@@ -63,6 +63,6 @@ def test_what_the_platform_cannot_do_yet_raises_a_python_exception(opencl):
     integrator = dpd.DPDIntegrator(temperature=dpd.REDUCED_TEMPERATURE, friction=4.5, cutoff=1.0, step_size=0.02)
     context = mm.Context(system, integrator, opencl)
     context.setPositions(positions)
-    integrator.setLeesEdwards(0.1)
-    with pytest.raises(mm.OpenMMException, match="Lees-Edwards shear .* not available on the OpenCL and CUDA platforms"):
+    integrator.setNEMD(dpd.ColourDrift(), 0.1)
+    with pytest.raises(mm.OpenMMException, match="NEMD forcing is not available on the OpenCL and CUDA platforms"):
         integrator.step(1)

@@ -20,8 +20,9 @@ namespace OpenMMDPD {
  * with an even number of blocks per axis (or one block): blocks coloured by the parity of their
  * coordinates, up to 8 colours, so that two blocks of one colour are a whole block apart and share
  * no particle (a block's pairs reach one cell beyond it).  The colours are swept one after another,
- * the blocks of a colour at once.  The box must be rectangular and at least 3 radii wide, so that the
- * 27 cells around a cell are distinct.
+ * the blocks of a colour at once.  The box is rectangular or sheared by a Lees-Edwards offset b_x
+ * (cells in lattice coordinates, at least `radius` thick face to face), at least 3 radii thick along
+ * each axis, so that the 27 cells around a cell are distinct.
  */
 class CommonDPDCellGrid {
 public:

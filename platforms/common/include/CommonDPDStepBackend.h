@@ -4,6 +4,7 @@
 #include "CommonDPDCalcForceKernel.h"
 #include "CommonDPDCellGrid.h"
 #include "CommonDPDStressAccumulator.h"
+#include "DPDLeesEdwardsFlow.h"
 #include "DPDSchemeState.h"
 #include "DPDStepBackend.h"
 #include "openmm/common/ComputeArray.h"
@@ -23,8 +24,11 @@ namespace OpenMMDPD {
  * for bit.  Nothing is read back per step: a non-finite or runaway state is recorded on the device
  * and reported by checkSoundness() once per step() call, naming the first step at which it was seen.
  *
- * Not yet on these platforms (each refused with an exception naming it): Lees-Edwards shear, NEMD and
- * Norton forcing, and stress accumulation for a System with forces other than one DPDForce.  No fusion is declared: every operation is its own launch.
+ * Lees-Edwards shear as on the host platforms (DPDLeesEdwardsFlow: the offset in the Context's box,
+ * peculiar velocities, the exact sheared drift, molecules wrapped whole, the streaming difference in
+ * every pair's relative velocity), the box set on the ComputeContext directly.  Not yet on these
+ * platforms (each refused with an exception naming it): NEMD and Norton forcing, and stress
+ * accumulation for a System with forces other than one DPDForce.  No fusion is declared: every operation is its own launch.
  * The sweeps use the grid of the integrated DPDForce's evaluation at the same positions where its
  * cutoff covers the friction's, as the host platforms share its pair list.
  */
@@ -76,6 +80,10 @@ private:
     void uploadFriction(const DPDIntegrator& integrator);
     void checkExternalState() const;
     void sweep(int mode, const DPDSweepRequest& request);
+    /** Under shear: learn and upload the groups the wrap keeps whole, and check what the box change means to OpenMM's kernels. */
+    void bindLeesEdwards();
+    void wrapIntoPrimaryCell();
+    void atomsWereReordered();
     OpenMM::ContextImpl& context;
     OpenMM::ComputeContext& cc;
     DPDSchemeState& state;
@@ -89,7 +97,10 @@ private:
     std::unique_ptr<CommonDPDStressAccumulator> stress;
     bool accumulateStress = false;
     std::string forceWithoutStress; // an integrated force whose stress these platforms cannot take yet ("": none)
-    CommonDPDKernel kickKernel, driftKernel, sweepKernel;
+    CommonDPDKernel kickKernel, driftKernel, sweepKernel, invertAtomIndex, wrapParticles, wrapMolecules;
+    DPDLeesEdwardsFlow leesEdwards;
+    double largestCutoff = 0.0;
+    OpenMM::ComputeArray inMolecule, moleculeStart, moleculeAtoms, atomOf;
     OpenMM::ComputeArray typeOf, frictionValues, frictionCutoffs, storedForces, flags;
     bool pairsAtCurrentPositions = false; // the grid belongs to the current positions
     bool latestForcesStored = false;      // the latest forces are the stored copy, not the Context's

@@ -22,9 +22,13 @@ void CommonDPDCalcForceKernel::initialize(const OpenMM::System& system, const DP
 void CommonDPDCalcForceKernel::uploadParameters(const DPDTypePairTable::Compiled& compiled) {
     typeOf.upload(compiled.particleTypeIndex);
     int numValues = static_cast<int>(compiled.value.size());
-    if (!repulsion.isInitialized() || repulsion.getSize() != static_cast<std::size_t>(numValues)) {
+    if (!repulsion.isInitialized()) {
         repulsion.initialize<double>(cc, numValues, "dpdForceRepulsion");
-        cutoff.initialize<double>(cc, numValues, "dpdForceCutoff"); // execute() passes them again
+        cutoff.initialize<double>(cc, numValues, "dpdForceCutoff");
+    }
+    else if (repulsion.getSize() != static_cast<std::size_t>(numValues)) { // execute() passes them again
+        repulsion.resize(numValues);
+        cutoff.resize(numValues);
     }
     repulsion.upload(compiled.value);
     cutoff.upload(compiled.cutoff);

@@ -12,13 +12,16 @@ bool CommonDPDCellGrid::Layout::colourIsUsed(int colour) const {
 }
 
 CommonDPDCellGrid::Layout CommonDPDCellGrid::layOut(const Vec3* box, double radius, const char* owner) {
-    if (box[0][1] != 0.0 || box[0][2] != 0.0 || box[1][0] != 0.0 || box[1][2] != 0.0 || box[2][0] != 0.0 || box[2][1] != 0.0)
-        throw OpenMM::OpenMMException(std::string(owner)+": the OpenCL and CUDA platforms need a rectangular periodic box; "
-                                      "use the CPU or Reference platform for a triclinic one");
+    if (box[0][1] != 0.0 || box[0][2] != 0.0 || box[1][2] != 0.0 || box[2][0] != 0.0 || box[2][1] != 0.0)
+        throw OpenMM::OpenMMException(std::string(owner)+": the OpenCL and CUDA platforms need a rectangular periodic box or the "
+                                      "Lees-Edwards box a = (L_x, 0, 0), b = (b_x, L_y, 0), c = (0, 0, L_z); use the CPU or "
+                                      "Reference platform for another triclinic one");
     Layout layout;
     int cells[3], blocks[3];
+    // Face-to-face thickness along each lattice direction (the offset b_x tilts the faces of constant x).
+    double thickness[3] = {box[0][0]*box[1][1]/std::sqrt(box[1][1]*box[1][1]+box[1][0]*box[1][0]), box[1][1], box[2][2]};
     for (int k = 0; k < 3; k++) {
-        double side = box[k][k];
+        double side = thickness[k];
         cells[k] = static_cast<int>(std::floor(side/radius));
         if (!(cells[k] >= 3)) {
             std::stringstream message;
@@ -54,21 +57,28 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     layout = layOut(box, radius, owner);
     this->radius = radius;
-    boxSize = OpenMM::mm_double4(box[0][0], box[1][1], box[2][2], 0.0);
+    boxSize = OpenMM::mm_double4(box[0][0], box[1][1], box[2][2], box[1][0]); // w: the Lees-Edwards offset b_x
     inverseBoxSize = OpenMM::mm_double4(1.0/box[0][0], 1.0/box[1][1], 1.0/box[2][2], 0.0);
     int numCells = layout.numCells.w;
     if (numCells > numCellsAllocated) { // grows only: a box that breathes does not reallocate every step
-        cellCount.initialize<int>(cc, numCells, "dpdCellCount");
-        cellStart.initialize<int>(cc, numCells+1, "dpdCellStart");
-        cellCursor.initialize<int>(cc, numCells, "dpdCellCursor");
+        if (cellCount.isInitialized()) {
+            cellCount.resize(numCells);
+            cellStart.resize(numCells+1);
+            cellCursor.resize(numCells);
+        }
+        else {
+            cellCount.initialize<int>(cc, numCells, "dpdCellCount");
+            cellStart.initialize<int>(cc, numCells+1, "dpdCellStart");
+            cellCursor.initialize<int>(cc, numCells, "dpdCellCursor");
+        }
         numCellsAllocated = numCells;
     }
     int numAtoms = cc.getNumAtoms();
     cc.clearBuffer(cellCount);
     if (cc.getUseMixedPrecision())
-        locate.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), inverseBoxSize, layout.numCells, cellOf, cellCount);
+        locate.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
     else
-        locate.run(numAtoms, -1, numAtoms, cc.getPosq(), inverseBoxSize, layout.numCells, cellOf, cellCount);
+        locate.run(numAtoms, -1, numAtoms, cc.getPosq(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
     scan.run(scanSize, scanSize, numCells, cellCount, cellStart, cellCursor);
     scatter.run(numAtoms, -1, numAtoms, cellOf, cellCursor, cellAtoms);
     sort.run(numCells, -1, numCells, cellStart, cellAtoms, cc.getAtomIndexArray());

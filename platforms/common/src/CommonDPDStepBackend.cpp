@@ -1,6 +1,8 @@
 #include "CommonDPDStepBackend.h"
 #include "CommonDPDProgram.h"
 #include "DPDFrictionTable.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmmdpd/internal/DPDForceImpl.h"
 #include "openmm/common/ContextSelector.h"
@@ -26,15 +28,25 @@ enum SweepMode { OrnsteinUhlenbeck = 0, BBK = 1, DissipativeAndRandomForces = 2 
 
 } // namespace
 
-/** OpenMM reordered the atoms: the grid's slots name atoms by their old places. */
+/** OpenMM reordered the atoms (CommonDPDStepBackend::atomsWereReordered). */
 class CommonDPDStepBackend::AtomReorderListener : public OpenMM::ComputeContext::ReorderListener {
 public:
-    explicit AtomReorderListener(bool& pairsValid) : pairsValid(pairsValid) {}
-    void execute() override { pairsValid = false; }
+    explicit AtomReorderListener(CommonDPDStepBackend& backend) : backend(backend) {}
+    void execute() override { backend.atomsWereReordered(); }
 
 private:
-    bool& pairsValid;
+    CommonDPDStepBackend& backend;
 };
+
+void CommonDPDStepBackend::atomsWereReordered() {
+    pairsAtCurrentPositions = false; // the grid's slots name atoms by their old places
+    // Under shear the positions stay wrapped into the sheared cell, as on the host platforms: the
+    // lattice shifts OpenMM records for the reordered atoms would move with the offset.
+    if (leesEdwards.isSheared()) {
+        std::vector<OpenMM::mm_int4> none(cc.getPosCellOffsets().size(), OpenMM::mm_int4(0, 0, 0, 0));
+        cc.setPosCellOffsets(none);
+    }
+}
 
 CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM::ComputeContext& cc, const DPDIntegrator& integrator,
                                            DPDSchemeState& state)
@@ -61,7 +73,22 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
     CommonDPDCellGrid::layOut(box, friction.maxCutoff, "DPDIntegrator");
-    cc.addReorderListener(new AtomReorderListener(pairsAtCurrentPositions)); // the context owns and deletes it
+    cc.addReorderListener(new AtomReorderListener(*this)); // the context owns and deletes it
+    invertAtomIndex = CommonDPDKernel(program, "dpdInvertAtomIndex");
+    wrapParticles = CommonDPDKernel(program, "dpdWrapParticles");
+    wrapMolecules = CommonDPDKernel(program, "dpdWrapMolecules");
+    largestCutoff = friction.maxCutoff;
+    for (int k = 0; k < system.getNumForces(); k++) {
+        const OpenMM::Force& force = system.getForce(k);
+        if (auto* dpd = dynamic_cast<const DPDForce*>(&force))
+            largestCutoff = std::max(largestCutoff, dpd->getTable().compile(system.getNumParticles()).maxCutoff);
+        else if (auto* custom = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force))
+            largestCutoff = std::max(largestCutoff, custom->getCutoffDistance());
+        else if (auto* nonbonded = dynamic_cast<const OpenMM::NonbondedForce*>(&force))
+            largestCutoff = std::max(largestCutoff, nonbonded->getCutoffDistance());
+    }
+    if (integrator.getShearRate() != 0.0)
+        DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
     stress = std::make_unique<CommonDPDStressAccumulator>(cc, program);
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
         if ((integrationGroups & (1 << impl->getOwner().getForceGroup())) == 0)
@@ -94,17 +121,19 @@ void CommonDPDStepBackend::uploadFriction(const DPDIntegrator& integrator) {
     frictionRevision = integrator.getTable().getRevision();
     typeOf.upload(friction.particleTypeIndex);
     int numValues = static_cast<int>(friction.value.size());
-    if (!frictionValues.isInitialized() || frictionValues.getSize() != static_cast<std::size_t>(numValues)) {
+    if (!frictionValues.isInitialized()) {
         frictionValues.initialize<double>(cc, numValues, "dpdFriction");
         frictionCutoffs.initialize<double>(cc, numValues, "dpdFrictionCutoff");
+    }
+    else if (frictionValues.getSize() != static_cast<std::size_t>(numValues)) {
+        frictionValues.resize(numValues);
+        frictionCutoffs.resize(numValues);
     }
     frictionValues.upload(friction.value);
     frictionCutoffs.upload(friction.cutoff);
 }
 
 void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
-    if (integrator.getShearRate() != 0.0)
-        notYetOnThisPlatform("Lees-Edwards shear (setLeesEdwards)");
     if (integrator.getStressAccumulation() && !forceWithoutStress.empty())
         notYetOnThisPlatform("stress accumulation (setStressAccumulation) with " + forceWithoutStress + " among the integrated forces");
     if (integrator.getForcingMode() != DPDIntegrator::NoForcing)
@@ -116,12 +145,24 @@ void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
         state.storedForcesValid = false; // VV's stored dissipative force used the old friction
         pairsAtCurrentPositions = false; // S1's stored pairs may not reach a larger cutoff
     }
+    bool stateSetFromOutside = externalStateUnchecked;
     if (externalStateUnchecked) {
         checkExternalState();
         externalStateUnchecked = false;
     }
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    leesEdwards.setShearRate(integrator.getShearRate());
+    if (leesEdwards.isSheared()) {
+        DPDLeesEdwardsFlow::checkBox(context.getSystem(), box, largestCutoff, leesEdwards.getShearRate());
+        if (!leesEdwards.isBoundToContext())
+            bindLeesEdwards();
+        // Positions set by the user may lie any number of box heights away: the sheared drift moves a
+        // particle with the streaming velocity of where it is, so it starts from its image in the box.
+        if (stateSetFromOutside)
+            wrapIntoPrimaryCell();
+        leesEdwards.beginStep(box);
+    }
     maxDisplacementPerDrift = 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2]));
     for (int k = 0; k < 3; k++)
         if (box[k] != boxOfStoredForces[k])
@@ -230,10 +271,10 @@ int CommonDPDStepBackend::drift(double dt, int times, double kickDt, bool* veloc
     double maxDisplacement2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
     if (cc.getUseMixedPrecision())
         driftKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), cc.getVelm(), cc.getLongForceBuffer(), storedForces,
-                        cc.getAtomIndexArray(), kickDt, kickFrom, dt, times, maxDisplacement2, step, flags);
+                        cc.getAtomIndexArray(), kickDt, kickFrom, dt, times, maxDisplacement2, step, flags, leesEdwards.getShearRate());
     else
         driftKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getVelm(), cc.getLongForceBuffer(), storedForces, cc.getAtomIndexArray(),
-                        kickDt, kickFrom, dt, times, maxDisplacement2, step, flags);
+                        kickDt, kickFrom, dt, times, maxDisplacement2, step, flags, leesEdwards.getShearRate());
     cc.getIntegrationUtilities().computeVirtualSites(); // as OpenMM's integrators do after every position update
     pairsAtCurrentPositions = friction.allValuesZero;
     return -1; // recorded on the device, reported once per step() call (takeFirstUnsoundStep)
@@ -273,12 +314,13 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
                             cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(),
                             grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
                             friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress,
-                            blockStress);
+                            blockStress, leesEdwards.getShearRate());
         else
             sweepKernel.run(layout.blocksPerColour, -1, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(),
                             cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
-                            request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress, blockStress);
+                            request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress, blockStress,
+                            leesEdwards.getShearRate());
         if (gatherStress)
             stress->addSweepColour(layout.blocksPerColour);
     }
@@ -317,8 +359,69 @@ bool CommonDPDStepBackend::kickWithKeptForces(double dt, int kicks, bool keepFor
     return true;
 }
 
+void CommonDPDStepBackend::bindLeesEdwards() {
+    // OpenMM compiles its own kernels for a rectangular box unless the System's default box is
+    // triclinic; ours read the offset from the box at every launch.
+    if (!cc.getBoxIsTriclinic())
+        for (int k = 0; k < context.getSystem().getNumForces(); k++) {
+            const OpenMM::Force& force = context.getSystem().getForce(k);
+            if (dynamic_cast<const DPDForce*>(&force) == nullptr && force.usesPeriodicBoundaryConditions())
+                throw OpenMM::OpenMMException("DPDIntegrator: Lees-Edwards shear on the OpenCL and CUDA platforms with force " +
+                                              std::to_string(k) + " (" + force.getName() + ") needs a triclinic default box, "
+                                              "so that OpenMM's kernels see the offset: give the System the default box vectors "
+                                              "a = (L_x, 0, 0), b = (b_x, L_y, 0), c = (0, 0, L_z) with some b_x != 0 (a lattice "
+                                              "vector of it, b_x = L_x, is the rectangular box itself) before making the Context");
+        }
+    leesEdwards.bindToContext(context);
+    const std::vector<std::vector<int> >& molecules = leesEdwards.getMoleculesOfSeveral();
+    std::vector<int> starts(1, 0), atoms, member(leesEdwards.getInMoleculeOfSeveral().begin(), leesEdwards.getInMoleculeOfSeveral().end());
+    for (const std::vector<int>& molecule : molecules) {
+        atoms.insert(atoms.end(), molecule.begin(), molecule.end());
+        starts.push_back(static_cast<int>(atoms.size()));
+    }
+    int numAtoms = cc.getNumAtoms();
+    inMolecule.initialize<int>(cc, numAtoms, "dpdInMolecule");
+    inMolecule.upload(member);
+    moleculeStart.initialize<int>(cc, starts.size(), "dpdMoleculeStart");
+    moleculeStart.upload(starts);
+    moleculeAtoms.initialize<int>(cc, std::max<std::size_t>(atoms.size(), 1), "dpdMoleculeAtoms");
+    if (!atoms.empty())
+        moleculeAtoms.upload(atoms);
+    atomOf.initialize<int>(cc, numAtoms, "dpdAtomOf");
+}
+
+void CommonDPDStepBackend::wrapIntoPrimaryCell() {
+    OpenMM::ContextSelector selector(cc);
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    OpenMM::mm_double4 boxSize(box[0][0], box[1][1], box[2][2], box[1][0]), inverse(1.0/box[0][0], 1.0/box[1][1], 1.0/box[2][2], 0.0);
+    int numAtoms = cc.getNumAtoms(), numMolecules = static_cast<int>(leesEdwards.getMoleculesOfSeveral().size());
+    bool mixed = cc.getUseMixedPrecision();
+    if (mixed)
+        wrapParticles.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), cc.getAtomIndexArray(), inMolecule, boxSize, inverse);
+    else
+        wrapParticles.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getAtomIndexArray(), inMolecule, boxSize, inverse);
+    if (numMolecules > 0) {
+        invertAtomIndex.run(numAtoms, -1, numAtoms, cc.getAtomIndexArray(), atomOf);
+        if (mixed)
+            wrapMolecules.run(numMolecules, -1, numMolecules, cc.getPosq(), cc.getPosqCorrection(), moleculeStart, moleculeAtoms, atomOf,
+                              boxSize, inverse);
+        else
+            wrapMolecules.run(numMolecules, -1, numMolecules, cc.getPosq(), moleculeStart, moleculeAtoms, atomOf, boxSize, inverse);
+    }
+    pairsAtCurrentPositions = friction.allValuesZero;
+}
+
 void CommonDPDStepBackend::moveImages(double elapsed, bool wrap) {
-    notYetOnThisPlatform("Lees-Edwards shear (setLeesEdwards)");
+    OpenMM::ContextSelector selector(cc);
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    Vec3 b(leesEdwards.offsetAfter(box, elapsed), box[1][1], 0.0);
+    // Straight to the ComputeContext: OpenMM's own route re-uploads every position after a reorder.
+    for (OpenMM::ComputeContext* each : cc.getAllContexts())
+        each->setPeriodicBoxVectors(box[0], b, box[2]);
+    if (wrap)
+        wrapIntoPrimaryCell();
 }
 
 double CommonDPDStepBackend::evaluateForcingField() {

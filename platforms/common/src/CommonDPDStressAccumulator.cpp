@@ -36,8 +36,10 @@ void CommonDPDStressAccumulator::beginSample() {
 }
 
 OpenMM::ComputeArray& CommonDPDStressAccumulator::blockRows(int blocks) {
-    if (!pairRows.isInitialized() || pairRows.getSize() < static_cast<std::size_t>(12*blocks))
+    if (!pairRows.isInitialized())
         pairRows.initialize<double>(cc, 12*std::max(blocks, 1), "dpdBlockStress");
+    else if (pairRows.getSize() < static_cast<std::size_t>(12*blocks))
+        pairRows.resize(12*blocks);
     return pairRows;
 }
 

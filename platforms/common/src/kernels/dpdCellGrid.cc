@@ -28,32 +28,48 @@ DEVICE int dpdIsFinite(double x) {
     return (((dpd_uint64) DPD_DOUBLE_BITS(x)) & DPD_U64(0x7ff0000000000000)) != DPD_U64(0x7ff0000000000000);
 }
 
-/** The cell of one coordinate: its fractional position in the (rectangular) box times the cells per side. */
-DEVICE int dpdCellCoordinate(double x, double inverseBoxSize, int numCells) {
-    double fraction = x*inverseBoxSize;
+/*
+ * The box is a = (L_x, 0, 0), b = (b_x, L_y, 0), c = (0, 0, L_z): rectangular, or sheared by the
+ * Lees-Edwards offset b_x (DPDLeesEdwardsFlow).  boxSize holds (L_x, L_y, L_z, b_x), inverseBoxSize
+ * (1/L_x, 1/L_y, 1/L_z, 0).  Cells are in fractional (lattice) coordinates.
+ */
+
+/** The cell of one fractional coordinate: wrapped into [0, 1), times the cells along that axis. */
+DEVICE int dpdCellCoordinate(double fraction, int numCells) {
     fraction -= floor(fraction);
     int cell = (int) (fraction*numCells);
     return cell < 0 ? 0 : (cell >= numCells ? numCells-1 : cell); // NaN lands in a cell too: the drift reports it
 }
 
-DEVICE int dpdCellOf(mixed4 position, double4 inverseBoxSize, int4 numCells) {
-    int cx = dpdCellCoordinate(position.x, inverseBoxSize.x, numCells.x);
-    int cy = dpdCellCoordinate(position.y, inverseBoxSize.y, numCells.y);
-    int cz = dpdCellCoordinate(position.z, inverseBoxSize.z, numCells.z);
+DEVICE int dpdCellOf(mixed4 position, double4 boxSize, double4 inverseBoxSize, int4 numCells) {
+    double sy = position.y*inverseBoxSize.y;
+    int cx = dpdCellCoordinate((position.x-sy*boxSize.w)*inverseBoxSize.x, numCells.x);
+    int cy = dpdCellCoordinate(sy, numCells.y);
+    int cz = dpdCellCoordinate(position.z*inverseBoxSize.z, numCells.z);
     return cx+numCells.x*(cy+numCells.y*cz);
 }
 
-/** The minimum-image separation of one coordinate in a rectangular box. */
-DEVICE double dpdMinimumImage(double delta, double boxSize, double inverseBoxSize) {
-    return delta-boxSize*floor(delta*inverseBoxSize+0.5);
+typedef struct DPDSeparation {
+    double x, y, z;
+} DPDSeparation;
+
+/** The minimum image of q_i - q_j: along c, then b (which carries the offset b_x), then a, as OpenMM reduces it. */
+DEVICE DPDSeparation dpdMinimumImage(double dx, double dy, double dz, double4 boxSize, double4 inverseBoxSize) {
+    DPDSeparation delta;
+    double imageY = floor(dy*inverseBoxSize.y+0.5);
+    delta.z = dz-boxSize.z*floor(dz*inverseBoxSize.z+0.5);
+    delta.y = dy-boxSize.y*imageY;
+    dx -= boxSize.w*imageY;
+    delta.x = dx-boxSize.x*floor(dx*inverseBoxSize.x+0.5);
+    return delta;
 }
 
 /** Each particle's cell, and the number of particles in each cell (cellCount cleared before). */
-KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 inverseBoxSize, int4 numCells,
+KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 boxSize, double4 inverseBoxSize, int4 numCells,
                                GLOBAL int* RESTRICT cellOf, GLOBAL int* RESTRICT cellCount) {
     for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
         mixed4 position = DPD_POSITION(i);
-        int cell = dpdCellOf(position, inverseBoxSize, numCells);
+        int cell = dpdCellOf(position, boxSize, inverseBoxSize, numCells);
         cellOf[i] = cell;
         ATOMIC_ADD(&cellCount[cell], 1);
     }

@@ -33,9 +33,9 @@ KERNEL void dpdConservativeForces(int numAtoms, GLOBAL const real4* RESTRICT pos
                         if (j == i)
                             continue;
                         real4 pj = posq[j];
-                        double deltaX = dpdMinimumImage((double) pi.x-(double) pj.x, boxSize.x, inverseBoxSize.x);
-                        double deltaY = dpdMinimumImage((double) pi.y-(double) pj.y, boxSize.y, inverseBoxSize.y);
-                        double deltaZ = dpdMinimumImage((double) pi.z-(double) pj.z, boxSize.z, inverseBoxSize.z);
+                        DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y,
+                                                              (double) pi.z-(double) pj.z, boxSize, inverseBoxSize);
+                        double deltaX = delta.x, deltaY = delta.y, deltaZ = delta.z;
                         double r2 = deltaX*deltaX+deltaY*deltaY+deltaZ*deltaZ;
                         if (r2 >= maxCutoff2 || r2 == 0.0)
                             continue;

@@ -61,7 +61,8 @@ KERNEL void dpdDrift(int numAtoms, GLOBAL real4* RESTRICT posq,
 #endif
                      GLOBAL mixed4* RESTRICT velm, GLOBAL const mm_long* RESTRICT contextForces,
                      GLOBAL const mm_long* RESTRICT storedForces, GLOBAL const int* RESTRICT atomIndex, double kickDt,
-                     int kickFrom, double dt, int times, double maxDisplacement2, int step, GLOBAL int* RESTRICT flags) {
+                     int kickFrom, double dt, int times, double maxDisplacement2, int step, GLOBAL int* RESTRICT flags,
+                     double shearRate) {
     int sound = 1;
     for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
         mixed4 v = velm[i];
@@ -82,12 +83,22 @@ KERNEL void dpdDrift(int numAtoms, GLOBAL real4* RESTRICT posq,
         mixed4 position = posq[i];
 #endif
         mixed dx = (mixed) (v.x*dt), dy = (mixed) (v.y*dt), dz = (mixed) (v.z*dt);
+        double displacement2 = 0.0;
         for (int k = 0; k < times; k++) {
-            position.x += dx;
+            // Under Lees-Edwards shear, free flight in the lab frame (DPDLeesEdwardsFlow::drift): the lab
+            // velocity v + kappa y e_x is constant, so x also moves kappa y dt and the peculiar v_x loses kappa dt v_y.
+            mixed streaming = (mixed) (shearRate*position.y*dt);
+            position.x += dx+streaming;
             position.y += dy;
             position.z += dz;
+            displacement2 = (double) (dx+streaming)*(dx+streaming)+(double) dy*dy+(double) dz*dz;
+            if (shearRate != 0.0) {
+                v.x -= (mixed) (shearRate*dt*v.y);
+                dx = (mixed) (v.x*dt);
+            }
         }
-        double displacement2 = (double) dx*dx+(double) dy*dy+(double) dz*dz;
+        if (shearRate != 0.0)
+            velm[i] = v;
         // Both tests are false for NaN; the second also catches a finite step to an infinite position.
         sound &= (displacement2 <= maxDisplacement2) & dpdIsFinite(position.x) & dpdIsFinite(position.y) & dpdIsFinite(position.z);
 #ifdef USE_MIXED_PRECISION
@@ -115,11 +126,11 @@ DEVICE void dpdSweepPair(int i, int j, DPD_POSITIONS, double4 boxSize, double4 i
                          GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT typeOf,
                          GLOBAL const double* RESTRICT friction, GLOBAL const double* RESTRICT cutoff, int numTypes,
                          double maxCutoff2, double kT, double dt, mm_ulong randomKey, int mode, GLOBAL mm_long* RESTRICT forces,
-                         int forcesStored, int gatherStress, double* stress) {
+                         int forcesStored, int gatherStress, double* stress, double shearRate) {
     mixed4 pi = DPD_POSITION(i), pj = DPD_POSITION(j);
-    double deltaX = dpdMinimumImage((double) pi.x-(double) pj.x, boxSize.x, inverseBoxSize.x);
-    double deltaY = dpdMinimumImage((double) pi.y-(double) pj.y, boxSize.y, inverseBoxSize.y);
-    double deltaZ = dpdMinimumImage((double) pi.z-(double) pj.z, boxSize.z, inverseBoxSize.z);
+    DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y, (double) pi.z-(double) pj.z,
+                                          boxSize, inverseBoxSize);
+    double deltaX = delta.x, deltaY = delta.y, deltaZ = delta.z;
     double r2 = deltaX*deltaX+deltaY*deltaY+deltaZ*deltaZ;
     if (r2 >= maxCutoff2 || r2 == 0.0)
         return;
@@ -141,7 +152,9 @@ DEVICE void dpdSweepPair(int i, int j, DPD_POSITIONS, double4 boxSize, double4 i
         update = bbkUpdate(gamma, w, invReducedMass, kT, dt, dpdNormal(R));
     else
         update = dissipativeAndRandomForce(gamma, w, kT, dt, dpdNormal(R));
-    double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z);
+    // The lab-frame relative velocity: peculiar velocities plus the streaming difference (DPDPairFormulas.h).
+    double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
+               leesEdwardsRelativeVelocity(shearRate, r, ex, ey);
     double change = dpdMomentumChange(update, u);
     if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts: stress[0..6), [6..12)
         double parts[2] = {r*dpdDissipativePart(update, u), r*update.offset};
@@ -198,7 +211,7 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                            GLOBAL const int* RESTRICT typeOf, GLOBAL const double* RESTRICT friction,
                            GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff, double kT, double dt,
                            mm_ulong randomKey, int mode, int reversed, GLOBAL mm_long* RESTRICT forces, int forcesStored,
-                           int gatherStress, GLOBAL double* RESTRICT blockStress) {
+                           int gatherStress, GLOBAL double* RESTRICT blockStress, double shearRate) {
     double maxCutoff2 = maxCutoff*maxCutoff;
     int halfX = numBlocks.x == 1 ? 1 : numBlocks.x/2, halfY = numBlocks.y == 1 ? 1 : numBlocks.y/2;
     for (int b = GLOBAL_ID; b < blocksInColour; b += GLOBAL_SIZE) {
@@ -235,10 +248,10 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                         int j = cellAtoms[reversed ? last-1-t : first+t];
 #ifdef USE_MIXED_PRECISION
                         dpdSweepPair(i, j, posq, posqCorrection, boxSize, inverseBoxSize, velm, atomIndex, typeOf, friction, cutoff,
-                                     numTypes, maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored, gatherStress, stress);
+                                     numTypes, maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored, gatherStress, stress, shearRate);
 #else
                         dpdSweepPair(i, j, posq, boxSize, inverseBoxSize, velm, atomIndex, typeOf, friction, cutoff, numTypes,
-                                     maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored, gatherStress, stress);
+                                     maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored, gatherStress, stress, shearRate);
 #endif
                     }
                 }

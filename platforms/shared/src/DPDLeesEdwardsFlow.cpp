@@ -44,9 +44,13 @@ double DPDLeesEdwardsFlow::reducedOffset(double offset, double boxLengthX) {
     return offset - boxLengthX*std::floor(offset/boxLengthX + 0.5);
 }
 
-void DPDLeesEdwardsFlow::moveImages(OpenMM::ContextImpl& context, const Vec3* box, double elapsed) const {
+double DPDLeesEdwardsFlow::offsetAfter(const Vec3* box, double elapsed) const {
     // The image across y moves with velocity kappa L_y (eq. 3.2 at y = L_y).
-    Vec3 b(reducedOffset(offsetAtStepStart + shearRate*box[1][1]*elapsed, box[0][0]), box[1][1], 0.0);
+    return reducedOffset(offsetAtStepStart + shearRate*box[1][1]*elapsed, box[0][0]);
+}
+
+void DPDLeesEdwardsFlow::moveImages(OpenMM::ContextImpl& context, const Vec3* box, double elapsed) const {
+    Vec3 b(offsetAfter(box, elapsed), box[1][1], 0.0);
     Vec3 a = box[0], c = box[2];
     context.setPeriodicBoxVectors(a, b, c);
 }

@@ -64,6 +64,11 @@ public:
      * whole.  Peculiar velocities are unchanged.
      */
     void wrapIntoPrimaryCell(std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box) const;
+    /** The wrap's groups (bindToContext): the molecules of more than one particle, and per particle whether it is in one. */
+    const std::vector<std::vector<int> >& getMoleculesOfSeveral() const { return moleculesOfSeveral; }
+    const std::vector<char>& getInMoleculeOfSeveral() const { return inMoleculeOfSeveral; }
+    /** The offset b_x `elapsed` after the start of the step (the image across y slides with kappa L_y), reduced. */
+    double offsetAfter(const OpenMM::Vec3* box, double elapsed) const;
 
 private:
     double shearRate;
