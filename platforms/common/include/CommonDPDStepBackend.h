@@ -4,6 +4,7 @@
 #include "CommonDPDCalcForceKernel.h"
 #include "CommonDPDCellGrid.h"
 #include "CommonDPDStressAccumulator.h"
+#include "DPDForcingFields.h"
 #include "DPDLeesEdwardsFlow.h"
 #include "DPDSchemeState.h"
 #include "DPDStepBackend.h"
@@ -26,9 +27,12 @@ namespace OpenMMDPD {
  *
  * Lees-Edwards shear as on the host platforms (DPDLeesEdwardsFlow: the offset in the Context's box,
  * peculiar velocities, the exact sheared drift, molecules wrapped whole, the streaming difference in
- * every pair's relative velocity), the box set on the ComputeContext directly.  Not yet on these
- * platforms (each refused with an exception naming it): NEMD and Norton forcing, and stress
- * accumulation for a System with forces other than one DPDForce.  No fusion is declared: every operation is its own launch.
+ * every pair's relative velocity), the box set on the ComputeContext directly.  NEMD and Norton
+ * forcing with the fields of DPDForcingFields kept on the device; their scalars (G . p, and the O
+ * sweep's G . Delta p^D for Norton) are summed there and read back, one double each, because the
+ * scheme layer computes the multipliers; a profile that depends on the positions (ShearProfile) is
+ * evaluated on the host from downloaded positions.  Not yet on these platforms (refused with an
+ * exception naming it): stress accumulation for a System with forces other than one DPDForce.  No fusion is declared: every operation is its own launch.
  * The sweeps use the grid of the integrated DPDForce's evaluation at the same positions where its
  * cutoff covers the friction's, as the host platforms share its pair list.
  */
@@ -79,7 +83,8 @@ private:
     class AtomReorderListener;
     void uploadFriction(const DPDIntegrator& integrator);
     void checkExternalState() const;
-    void sweep(int mode, const DPDSweepRequest& request);
+    void sweep(int mode, const DPDSweepRequest& request, bool response = false);
+    int sweptResponseRows = 0;
     /** Under shear: learn and upload the groups the wrap keeps whole, and check what the box change means to OpenMM's kernels. */
     void bindLeesEdwards();
     void wrapIntoPrimaryCell();
@@ -98,6 +103,15 @@ private:
     bool accumulateStress = false;
     std::string forceWithoutStress; // an integrated force whose stress these platforms cannot take yet ("": none)
     CommonDPDKernel kickKernel, driftKernel, sweepKernel, invertAtomIndex, wrapParticles, wrapMolecules;
+    CommonDPDKernel responseRowsKernel, impulseKernel, sumRowsKernel;
+    DPDForcingFields forcing;
+    const DPDIntegrator* forcedIntegrator = nullptr;
+    std::vector<double> masses;
+    std::vector<OpenMM::Vec3> unusedPositions; // for profiles that do not depend on the positions
+    long long uploadedForcingRevision = -1;
+    OpenMM::ComputeArray forcingField, responseField, responseRows, blockResponse, responseSum;
+    /** The sum of `count` rows of `rows` (one double each), read back. */
+    double sumOfRows(OpenMM::ComputeArray& rows, int count);
     DPDLeesEdwardsFlow leesEdwards;
     double largestCutoff = 0.0;
     OpenMM::ComputeArray inMolecule, moleculeStart, moleculeAtoms, atomOf;

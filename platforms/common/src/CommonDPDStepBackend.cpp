@@ -75,6 +75,11 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     CommonDPDCellGrid::layOut(box, friction.maxCutoff, "DPDIntegrator");
     cc.addReorderListener(new AtomReorderListener(*this)); // the context owns and deletes it
     invertAtomIndex = CommonDPDKernel(program, "dpdInvertAtomIndex");
+    responseRowsKernel = CommonDPDKernel(program, "dpdResponseRows");
+    impulseKernel = CommonDPDKernel(program, "dpdApplyForcingImpulse");
+    sumRowsKernel = CommonDPDKernel(program, "dpdSumRows");
+    for (int i = 0; i < system.getNumParticles(); i++)
+        masses.push_back(system.getParticleMass(i));
     wrapParticles = CommonDPDKernel(program, "dpdWrapParticles");
     wrapMolecules = CommonDPDKernel(program, "dpdWrapMolecules");
     largestCutoff = friction.maxCutoff;
@@ -136,9 +141,8 @@ void CommonDPDStepBackend::uploadFriction(const DPDIntegrator& integrator) {
 void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
     if (integrator.getStressAccumulation() && !forceWithoutStress.empty())
         notYetOnThisPlatform("stress accumulation (setStressAccumulation) with " + forceWithoutStress + " among the integrated forces");
-    if (integrator.getForcingMode() != DPDIntegrator::NoForcing)
-        notYetOnThisPlatform(integrator.getForcingMode() == DPDIntegrator::NEMD ? "NEMD forcing" : "Norton forcing");
     OpenMM::ContextSelector selector(cc);
+    forcedIntegrator = &integrator;
     kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
     if (integrator.getTable().getRevision() != frictionRevision) {
         uploadFriction(integrator);
@@ -294,7 +298,7 @@ bool CommonDPDStepBackend::kick(double dt, bool keepForces) {
     return true;
 }
 
-void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
+void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool response) {
     if (!pairsAtCurrentPositions)
         throw OpenMM::OpenMMException("DPDIntegrator: internal error: a pair sweep without the pairs of the current positions");
     OpenMM::ContextSelector selector(cc);
@@ -305,6 +309,19 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
     int forcesStored = latestForcesStored ? 1 : 0;
     int gatherStress = accumulateStress && request.gatherStress ? 1 : 0;
     OpenMM::ComputeArray& blockStress = stress->blockRows(layout.blocksPerColour);
+    // Norton: each block's G . Delta p^D in a row, all colours' rows one after another, summed in order.
+    int withResponse = response ? 1 : 0;
+    if (response) {
+        int rows = layout.blocksPerColour*layout.numColours;
+        if (!blockResponse.isInitialized())
+            blockResponse.initialize<double>(cc, rows, "dpdBlockResponse");
+        else if (blockResponse.getSize() < static_cast<std::size_t>(rows))
+            blockResponse.resize(rows);
+        cc.clearBuffer(blockResponse);
+        sweptResponseRows = rows;
+    }
+    OpenMM::ComputeArray& responseOfPairs = response ? blockResponse : storedForces; // unused unless response
+    OpenMM::ComputeArray& responseFieldOrNone = response ? responseField : storedForces;
     for (int n = 0; n < layout.numColours; n++) {
         int colour = request.reversed ? layout.numColours-1-n : n;
         if (!layout.colourIsUsed(colour))
@@ -314,23 +331,22 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
                             cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(),
                             grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
                             friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress,
-                            blockStress, leesEdwards.getShearRate());
+                            blockStress, leesEdwards.getShearRate(), withResponse, responseFieldOrNone, responseOfPairs,
+                            n*layout.blocksPerColour);
         else
             sweepKernel.run(layout.blocksPerColour, -1, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(),
                             cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
                             request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress, blockStress,
-                            leesEdwards.getShearRate());
+                            leesEdwards.getShearRate(), withResponse, responseFieldOrNone, responseOfPairs, n*layout.blocksPerColour);
         if (gatherStress)
             stress->addSweepColour(layout.blocksPerColour);
     }
 }
 
 double CommonDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& request, bool response) {
-    if (response)
-        notYetOnThisPlatform("Norton forcing");
-    sweep(OrnsteinUhlenbeck, request);
-    return 0.0;
+    sweep(OrnsteinUhlenbeck, request, response);
+    return response ? sumOfRows(blockResponse, sweptResponseRows) : 0.0;
 }
 
 void CommonDPDStepBackend::sweepBBK(const DPDSweepRequest& request) {
@@ -424,16 +440,61 @@ void CommonDPDStepBackend::moveImages(double elapsed, bool wrap) {
         wrapIntoPrimaryCell();
 }
 
+double CommonDPDStepBackend::sumOfRows(OpenMM::ComputeArray& rows, int count) {
+    if (!responseSum.isInitialized())
+        responseSum.initialize<double>(cc, 1, "dpdResponseSum");
+    sumRowsKernel.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, count, 1, rows, responseSum, 0, 0);
+    double sum;
+    responseSum.download(&sum); // the scheme layer computes the multipliers from it
+    return sum;
+}
+
 double CommonDPDStepBackend::evaluateForcingField() {
-    notYetOnThisPlatform("NEMD and Norton forcing");
+    OpenMM::ContextSelector selector(cc);
+    const DPDForcingProfile& profile = *forcedIntegrator->getForcingProfile();
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    double forcingDotResponse;
+    if (profile.dependsOnPositions()) {
+        std::vector<Vec3> positions;
+        context.getPositions(positions); // System order, as the profiles take them
+        forcingDotResponse = forcing.evaluate(profile, positions, box, masses);
+    }
+    else {
+        unusedPositions.resize(masses.size());
+        forcingDotResponse = forcing.evaluate(profile, unusedPositions, box, masses);
+    }
+    if (forcing.getRevision() != uploadedForcingRevision) {
+        int numAtoms = cc.getNumAtoms();
+        std::vector<double> values(3*numAtoms);
+        if (!forcingField.isInitialized()) {
+            forcingField.initialize<double>(cc, 3*numAtoms, "dpdForcingField");
+            responseField.initialize<double>(cc, 3*numAtoms, "dpdResponseField");
+            responseRows.initialize<double>(cc, numAtoms, "dpdResponseRows");
+        }
+        for (const std::vector<Vec3>* field : {&forcing.getForcingField(), &forcing.getResponseField()}) {
+            for (int i = 0; i < numAtoms; i++)
+                for (int k = 0; k < 3; k++)
+                    values[3*i+k] = (*field)[i][k];
+            (field == &forcing.getForcingField() ? forcingField : responseField).upload(values);
+        }
+        uploadedForcingRevision = forcing.getRevision();
+    }
+    return forcingDotResponse;
 }
 
 double CommonDPDStepBackend::responseOfVelocities() const {
-    notYetOnThisPlatform("NEMD and Norton forcing");
+    auto& self = const_cast<CommonDPDStepBackend&>(*this); // reads the device, changes no state
+    OpenMM::ContextSelector selector(cc);
+    int numAtoms = cc.getNumAtoms();
+    self.responseRowsKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getAtomIndexArray(), self.responseField, self.responseRows);
+    return self.sumOfRows(self.responseRows, numAtoms);
 }
 
 void CommonDPDStepBackend::applyForcingImpulse(double xi) {
-    notYetOnThisPlatform("NEMD and Norton forcing");
+    OpenMM::ContextSelector selector(cc);
+    int numAtoms = cc.getNumAtoms();
+    impulseKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getAtomIndexArray(), forcingField, xi);
 }
 
 std::vector<Vec3> CommonDPDStepBackend::getStoredForces(Vec3* box) const {

@@ -126,7 +126,8 @@ DEVICE void dpdSweepPair(int i, int j, DPD_POSITIONS, double4 boxSize, double4 i
                          GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT typeOf,
                          GLOBAL const double* RESTRICT friction, GLOBAL const double* RESTRICT cutoff, int numTypes,
                          double maxCutoff2, double kT, double dt, mm_ulong randomKey, int mode, GLOBAL mm_long* RESTRICT forces,
-                         int forcesStored, int gatherStress, double* stress, double shearRate) {
+                         int forcesStored, int gatherStress, double* stress, double shearRate, GLOBAL const double* RESTRICT responseField,
+                         double* response) {
     mixed4 pi = DPD_POSITION(i), pj = DPD_POSITION(j);
     DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y, (double) pi.z-(double) pj.z,
                                           boxSize, inverseBoxSize);
@@ -156,6 +157,12 @@ DEVICE void dpdSweepPair(int i, int j, DPD_POSITIONS, double4 boxSize, double4 i
     double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
                leesEdwardsRelativeVelocity(shearRate, r, ex, ey);
     double change = dpdMomentumChange(update, u);
+    if (response != 0) { // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
+        double dissipative = dpdDissipativePart(update, u);
+        *response += dissipative*(ex*(responseField[3*originalI]-responseField[3*originalJ])+
+                                  ey*(responseField[3*originalI+1]-responseField[3*originalJ+1])+
+                                  ez*(responseField[3*originalI+2]-responseField[3*originalJ+2]));
+    }
     if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts: stress[0..6), [6..12)
         double parts[2] = {r*dpdDissipativePart(update, u), r*update.offset};
         for (int p = 0; p < 2; p++) {
@@ -211,7 +218,8 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                            GLOBAL const int* RESTRICT typeOf, GLOBAL const double* RESTRICT friction,
                            GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff, double kT, double dt,
                            mm_ulong randomKey, int mode, int reversed, GLOBAL mm_long* RESTRICT forces, int forcesStored,
-                           int gatherStress, GLOBAL double* RESTRICT blockStress, double shearRate) {
+                           int gatherStress, GLOBAL double* RESTRICT blockStress, double shearRate, int withResponse,
+                           GLOBAL const double* RESTRICT responseField, GLOBAL double* RESTRICT blockResponse, int firstResponseRow) {
     double maxCutoff2 = maxCutoff*maxCutoff;
     int halfX = numBlocks.x == 1 ? 1 : numBlocks.x/2, halfY = numBlocks.y == 1 ? 1 : numBlocks.y/2;
     for (int b = GLOBAL_ID; b < blocksInColour; b += GLOBAL_SIZE) {
@@ -224,6 +232,7 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
         int z0 = bz*numCells.z/numBlocks.z, z1 = (bz+1)*numCells.z/numBlocks.z;
         int sizeX = x1-x0, sizeY = y1-y0, numBlockCells = sizeX*sizeY*(z1-z0);
         double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        double response = 0.0;
         for (int n = 0; n < numBlockCells; n++) {
             int m = reversed ? numBlockCells-1-n : n;
             int cx = x0+m%sizeX, cy = y0+(m/sizeX)%sizeY, cz = z0+m/(sizeX*sizeY);
@@ -248,10 +257,12 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                         int j = cellAtoms[reversed ? last-1-t : first+t];
 #ifdef USE_MIXED_PRECISION
                         dpdSweepPair(i, j, posq, posqCorrection, boxSize, inverseBoxSize, velm, atomIndex, typeOf, friction, cutoff,
-                                     numTypes, maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored, gatherStress, stress, shearRate);
+                                     numTypes, maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored, gatherStress, stress, shearRate, responseField,
+                                     withResponse ? &response : 0);
 #else
                         dpdSweepPair(i, j, posq, boxSize, inverseBoxSize, velm, atomIndex, typeOf, friction, cutoff, numTypes,
-                                     maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored, gatherStress, stress, shearRate);
+                                     maxCutoff2, kT, dt, randomKey, mode, forces, forcesStored, gatherStress, stress, shearRate, responseField,
+                                     withResponse ? &response : 0);
 #endif
                     }
                 }
@@ -260,5 +271,7 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
         if (gatherStress) // this block's row of the sweep's pair stress (dpdStress.cc sums the rows in order)
             for (int k = 0; k < 12; k++)
                 blockStress[12*b+k] = stress[k];
+        if (withResponse)
+            blockResponse[firstResponseRow+b] = response;
     }
 }

@@ -23,12 +23,16 @@ public:
     /** p += xi F (the forcing of eqs. 6 and 11 over one sub-step). */
     void applyImpulse(double xi, std::vector<OpenMM::Vec3>& velocities, const std::vector<double>& inverseMasses) const;
     const std::vector<OpenMM::Vec3>& getResponseField() const { return responseField; }
+    const std::vector<OpenMM::Vec3>& getForcingField() const { return forcingField; }
+    /** Counts the evaluations that changed the fields (a platform keeping a copy uploads it again). */
+    long long getRevision() const { return revision; }
 
 private:
     std::vector<OpenMM::Vec3> forcingField, responseField;
     const DPDForcingProfile* fieldsProfile = nullptr; // the profile the constant fields belong to
     std::string fieldsProfileType;
     double forcingDotResponse = 0.0;
+    long long revision = 0;
 };
 
 } // namespace OpenMMDPD

@@ -10,6 +10,7 @@ double DPDForcingFields::evaluate(const DPDForcingProfile& profile, const std::v
     if (profile.dependsOnPositions() || fieldsProfile != &profile || fieldsProfileType != profile.getType() ||
         forcingField.size() != positions.size()) {
         profile.evaluate(positions, box, masses, forcingField, responseField);
+        revision++;
         fieldsProfile = &profile;
         fieldsProfileType = profile.getType();
         forcingDotResponse = 0.0;
