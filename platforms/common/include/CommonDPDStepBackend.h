@@ -4,8 +4,8 @@
 #include "CommonDPDCalcForceKernel.h"
 #include "CommonDPDCellGrid.h"
 #include "CommonDPDStressAccumulator.h"
-#include "DPDForcingFields.h"
-#include "DPDLeesEdwardsFlow.h"
+#include "CommonDPDForcing.h"
+#include "CommonDPDLeesEdwards.h"
 #include "DPDSchemeState.h"
 #include "DPDStepBackend.h"
 #include "openmm/common/ComputeArray.h"
@@ -84,10 +84,6 @@ private:
     void uploadFriction(const DPDIntegrator& integrator);
     void checkExternalState() const;
     void sweep(int mode, const DPDSweepRequest& request, bool response = false);
-    int sweptResponseRows = 0;
-    /** Under shear: learn and upload the groups the wrap keeps whole, and check what the box change means to OpenMM's kernels. */
-    void bindLeesEdwards();
-    void wrapIntoPrimaryCell();
     void atomsWereReordered();
     OpenMM::ContextImpl& context;
     OpenMM::ComputeContext& cc;
@@ -102,19 +98,11 @@ private:
     std::unique_ptr<CommonDPDStressAccumulator> stress;
     bool accumulateStress = false;
     std::string forceWithoutStress; // an integrated force whose stress these platforms cannot take yet ("": none)
-    CommonDPDKernel kickKernel, driftKernel, sweepKernel, invertAtomIndex, wrapParticles, wrapMolecules;
-    CommonDPDKernel responseRowsKernel, impulseKernel, sumRowsKernel;
-    DPDForcingFields forcing;
+    CommonDPDKernel kickKernel, driftKernel, sweepKernel;
+    std::unique_ptr<CommonDPDLeesEdwards> shear;
+    std::unique_ptr<CommonDPDForcing> forcing;
     const DPDIntegrator* forcedIntegrator = nullptr;
-    std::vector<double> masses;
-    std::vector<OpenMM::Vec3> unusedPositions; // for profiles that do not depend on the positions
-    long long uploadedForcingRevision = -1;
-    OpenMM::ComputeArray forcingField, responseField, responseRows, blockResponse, responseSum;
-    /** The sum of `count` rows of `rows` (one double each), read back. */
-    double sumOfRows(OpenMM::ComputeArray& rows, int count);
-    DPDLeesEdwardsFlow leesEdwards;
     double largestCutoff = 0.0;
-    OpenMM::ComputeArray inMolecule, moleculeStart, moleculeAtoms, atomOf;
     OpenMM::ComputeArray typeOf, frictionValues, frictionCutoffs, storedForces, flags;
     bool pairsAtCurrentPositions = false; // the grid belongs to the current positions
     bool latestForcesStored = false;      // the latest forces are the stored copy, not the Context's

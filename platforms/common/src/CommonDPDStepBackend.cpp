@@ -40,12 +40,7 @@ private:
 
 void CommonDPDStepBackend::atomsWereReordered() {
     pairsAtCurrentPositions = false; // the grid's slots name atoms by their old places
-    // Under shear the positions stay wrapped into the sheared cell, as on the host platforms: the
-    // lattice shifts OpenMM records for the reordered atoms would move with the offset.
-    if (leesEdwards.isSheared()) {
-        std::vector<OpenMM::mm_int4> none(cc.getPosCellOffsets().size(), OpenMM::mm_int4(0, 0, 0, 0));
-        cc.setPosCellOffsets(none);
-    }
+    shear->atomsWereReordered();
 }
 
 CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM::ComputeContext& cc, const DPDIntegrator& integrator,
@@ -74,14 +69,8 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
     CommonDPDCellGrid::layOut(box, friction.maxCutoff, "DPDIntegrator");
     cc.addReorderListener(new AtomReorderListener(*this)); // the context owns and deletes it
-    invertAtomIndex = CommonDPDKernel(program, "dpdInvertAtomIndex");
-    responseRowsKernel = CommonDPDKernel(program, "dpdResponseRows");
-    impulseKernel = CommonDPDKernel(program, "dpdApplyForcingImpulse");
-    sumRowsKernel = CommonDPDKernel(program, "dpdSumRows");
-    for (int i = 0; i < system.getNumParticles(); i++)
-        masses.push_back(system.getParticleMass(i));
-    wrapParticles = CommonDPDKernel(program, "dpdWrapParticles");
-    wrapMolecules = CommonDPDKernel(program, "dpdWrapMolecules");
+    shear = std::make_unique<CommonDPDLeesEdwards>(cc, program);
+    forcing = std::make_unique<CommonDPDForcing>(cc, program, system);
     largestCutoff = friction.maxCutoff;
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& force = system.getForce(k);
@@ -156,16 +145,19 @@ void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
     }
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    leesEdwards.setShearRate(integrator.getShearRate());
-    if (leesEdwards.isSheared()) {
-        DPDLeesEdwardsFlow::checkBox(context.getSystem(), box, largestCutoff, leesEdwards.getShearRate());
-        if (!leesEdwards.isBoundToContext())
-            bindLeesEdwards();
+    DPDLeesEdwardsFlow& flow = shear->flow();
+    flow.setShearRate(integrator.getShearRate());
+    if (flow.isSheared()) {
+        DPDLeesEdwardsFlow::checkBox(context.getSystem(), box, largestCutoff, flow.getShearRate());
+        if (!flow.isBoundToContext())
+            shear->bind(context);
         // Positions set by the user may lie any number of box heights away: the sheared drift moves a
         // particle with the streaming velocity of where it is, so it starts from its image in the box.
-        if (stateSetFromOutside)
-            wrapIntoPrimaryCell();
-        leesEdwards.beginStep(box);
+        if (stateSetFromOutside) {
+            shear->wrapIntoPrimaryCell();
+            pairsAtCurrentPositions = friction.allValuesZero;
+        }
+        flow.beginStep(box);
     }
     maxDisplacementPerDrift = 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2]));
     for (int k = 0; k < 3; k++)
@@ -275,10 +267,10 @@ int CommonDPDStepBackend::drift(double dt, int times, double kickDt, bool* veloc
     double maxDisplacement2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
     if (cc.getUseMixedPrecision())
         driftKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), cc.getVelm(), cc.getLongForceBuffer(), storedForces,
-                        cc.getAtomIndexArray(), kickDt, kickFrom, dt, times, maxDisplacement2, step, flags, leesEdwards.getShearRate());
+                        cc.getAtomIndexArray(), kickDt, kickFrom, dt, times, maxDisplacement2, step, flags, shear->flow().getShearRate());
     else
         driftKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getVelm(), cc.getLongForceBuffer(), storedForces, cc.getAtomIndexArray(),
-                        kickDt, kickFrom, dt, times, maxDisplacement2, step, flags, leesEdwards.getShearRate());
+                        kickDt, kickFrom, dt, times, maxDisplacement2, step, flags, shear->flow().getShearRate());
     cc.getIntegrationUtilities().computeVirtualSites(); // as OpenMM's integrators do after every position update
     pairsAtCurrentPositions = friction.allValuesZero;
     return -1; // recorded on the device, reported once per step() call (takeFirstUnsoundStep)
@@ -311,17 +303,8 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
     OpenMM::ComputeArray& blockStress = stress->blockRows(layout.blocksPerColour);
     // Norton: each block's G . Delta p^D in a row, all colours' rows one after another, summed in order.
     int withResponse = response ? 1 : 0;
-    if (response) {
-        int rows = layout.blocksPerColour*layout.numColours;
-        if (!blockResponse.isInitialized())
-            blockResponse.initialize<double>(cc, rows, "dpdBlockResponse");
-        else if (blockResponse.getSize() < static_cast<std::size_t>(rows))
-            blockResponse.resize(rows);
-        cc.clearBuffer(blockResponse);
-        sweptResponseRows = rows;
-    }
-    OpenMM::ComputeArray& responseOfPairs = response ? blockResponse : storedForces; // unused unless response
-    OpenMM::ComputeArray& responseFieldOrNone = response ? responseField : storedForces;
+    OpenMM::ComputeArray& responseOfPairs = response ? forcing->sweepRows(layout.blocksPerColour*layout.numColours) : storedForces;
+    OpenMM::ComputeArray& responseFieldOrNone = response ? forcing->getResponseField() : storedForces; // unused unless response
     for (int n = 0; n < layout.numColours; n++) {
         int colour = request.reversed ? layout.numColours-1-n : n;
         if (!layout.colourIsUsed(colour))
@@ -331,14 +314,14 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
                             cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(),
                             grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
                             friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress,
-                            blockStress, leesEdwards.getShearRate(), withResponse, responseFieldOrNone, responseOfPairs,
+                            blockStress, shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs,
                             n*layout.blocksPerColour);
         else
             sweepKernel.run(layout.blocksPerColour, -1, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(),
                             cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
                             request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress, blockStress,
-                            leesEdwards.getShearRate(), withResponse, responseFieldOrNone, responseOfPairs, n*layout.blocksPerColour);
+                            shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs, n*layout.blocksPerColour);
         if (gatherStress)
             stress->addSweepColour(layout.blocksPerColour);
     }
@@ -346,7 +329,7 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
 
 double CommonDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& request, bool response) {
     sweep(OrnsteinUhlenbeck, request, response);
-    return response ? sumOfRows(blockResponse, sweptResponseRows) : 0.0;
+    return response ? forcing->sweptResponse() : 0.0;
 }
 
 void CommonDPDStepBackend::sweepBBK(const DPDSweepRequest& request) {
@@ -375,126 +358,24 @@ bool CommonDPDStepBackend::kickWithKeptForces(double dt, int kicks, bool keepFor
     return true;
 }
 
-void CommonDPDStepBackend::bindLeesEdwards() {
-    // OpenMM compiles its own kernels for a rectangular box unless the System's default box is
-    // triclinic; ours read the offset from the box at every launch.
-    if (!cc.getBoxIsTriclinic())
-        for (int k = 0; k < context.getSystem().getNumForces(); k++) {
-            const OpenMM::Force& force = context.getSystem().getForce(k);
-            if (dynamic_cast<const DPDForce*>(&force) == nullptr && force.usesPeriodicBoundaryConditions())
-                throw OpenMM::OpenMMException("DPDIntegrator: Lees-Edwards shear on the OpenCL and CUDA platforms with force " +
-                                              std::to_string(k) + " (" + force.getName() + ") needs a triclinic default box, "
-                                              "so that OpenMM's kernels see the offset: give the System the default box vectors "
-                                              "a = (L_x, 0, 0), b = (b_x, L_y, 0), c = (0, 0, L_z) with some b_x != 0 (a lattice "
-                                              "vector of it, b_x = L_x, is the rectangular box itself) before making the Context");
-        }
-    leesEdwards.bindToContext(context);
-    const std::vector<std::vector<int> >& molecules = leesEdwards.getMoleculesOfSeveral();
-    std::vector<int> starts(1, 0), atoms, member(leesEdwards.getInMoleculeOfSeveral().begin(), leesEdwards.getInMoleculeOfSeveral().end());
-    for (const std::vector<int>& molecule : molecules) {
-        atoms.insert(atoms.end(), molecule.begin(), molecule.end());
-        starts.push_back(static_cast<int>(atoms.size()));
-    }
-    int numAtoms = cc.getNumAtoms();
-    inMolecule.initialize<int>(cc, numAtoms, "dpdInMolecule");
-    inMolecule.upload(member);
-    moleculeStart.initialize<int>(cc, starts.size(), "dpdMoleculeStart");
-    moleculeStart.upload(starts);
-    moleculeAtoms.initialize<int>(cc, std::max<std::size_t>(atoms.size(), 1), "dpdMoleculeAtoms");
-    if (!atoms.empty())
-        moleculeAtoms.upload(atoms);
-    atomOf.initialize<int>(cc, numAtoms, "dpdAtomOf");
-}
-
-void CommonDPDStepBackend::wrapIntoPrimaryCell() {
-    OpenMM::ContextSelector selector(cc);
-    Vec3 box[3];
-    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    OpenMM::mm_double4 boxSize(box[0][0], box[1][1], box[2][2], box[1][0]), inverse(1.0/box[0][0], 1.0/box[1][1], 1.0/box[2][2], 0.0);
-    int numAtoms = cc.getNumAtoms(), numMolecules = static_cast<int>(leesEdwards.getMoleculesOfSeveral().size());
-    bool mixed = cc.getUseMixedPrecision();
-    if (mixed)
-        wrapParticles.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), cc.getAtomIndexArray(), inMolecule, boxSize, inverse);
-    else
-        wrapParticles.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getAtomIndexArray(), inMolecule, boxSize, inverse);
-    if (numMolecules > 0) {
-        invertAtomIndex.run(numAtoms, -1, numAtoms, cc.getAtomIndexArray(), atomOf);
-        if (mixed)
-            wrapMolecules.run(numMolecules, -1, numMolecules, cc.getPosq(), cc.getPosqCorrection(), moleculeStart, moleculeAtoms, atomOf,
-                              boxSize, inverse);
-        else
-            wrapMolecules.run(numMolecules, -1, numMolecules, cc.getPosq(), moleculeStart, moleculeAtoms, atomOf, boxSize, inverse);
-    }
-    pairsAtCurrentPositions = friction.allValuesZero;
-}
-
 void CommonDPDStepBackend::moveImages(double elapsed, bool wrap) {
-    OpenMM::ContextSelector selector(cc);
-    Vec3 box[3];
-    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    Vec3 b(leesEdwards.offsetAfter(box, elapsed), box[1][1], 0.0);
-    // Straight to the ComputeContext: OpenMM's own route re-uploads every position after a reorder.
-    for (OpenMM::ComputeContext* each : cc.getAllContexts())
-        each->setPeriodicBoxVectors(box[0], b, box[2]);
-    if (wrap)
-        wrapIntoPrimaryCell();
-}
-
-double CommonDPDStepBackend::sumOfRows(OpenMM::ComputeArray& rows, int count) {
-    if (!responseSum.isInitialized())
-        responseSum.initialize<double>(cc, 1, "dpdResponseSum");
-    sumRowsKernel.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, count, 1, rows, responseSum, 0, 0);
-    double sum;
-    responseSum.download(&sum); // the scheme layer computes the multipliers from it
-    return sum;
+    shear->moveImages(elapsed);
+    if (wrap) {
+        shear->wrapIntoPrimaryCell();
+        pairsAtCurrentPositions = friction.allValuesZero;
+    }
 }
 
 double CommonDPDStepBackend::evaluateForcingField() {
-    OpenMM::ContextSelector selector(cc);
-    const DPDForcingProfile& profile = *forcedIntegrator->getForcingProfile();
-    Vec3 box[3];
-    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    double forcingDotResponse;
-    if (profile.dependsOnPositions()) {
-        std::vector<Vec3> positions;
-        context.getPositions(positions); // System order, as the profiles take them
-        forcingDotResponse = forcing.evaluate(profile, positions, box, masses);
-    }
-    else {
-        unusedPositions.resize(masses.size());
-        forcingDotResponse = forcing.evaluate(profile, unusedPositions, box, masses);
-    }
-    if (forcing.getRevision() != uploadedForcingRevision) {
-        int numAtoms = cc.getNumAtoms();
-        std::vector<double> values(3*numAtoms);
-        if (!forcingField.isInitialized()) {
-            forcingField.initialize<double>(cc, 3*numAtoms, "dpdForcingField");
-            responseField.initialize<double>(cc, 3*numAtoms, "dpdResponseField");
-            responseRows.initialize<double>(cc, numAtoms, "dpdResponseRows");
-        }
-        for (const std::vector<Vec3>* field : {&forcing.getForcingField(), &forcing.getResponseField()}) {
-            for (int i = 0; i < numAtoms; i++)
-                for (int k = 0; k < 3; k++)
-                    values[3*i+k] = (*field)[i][k];
-            (field == &forcing.getForcingField() ? forcingField : responseField).upload(values);
-        }
-        uploadedForcingRevision = forcing.getRevision();
-    }
-    return forcingDotResponse;
+    return forcing->evaluate(context, *forcedIntegrator->getForcingProfile());
 }
 
 double CommonDPDStepBackend::responseOfVelocities() const {
-    auto& self = const_cast<CommonDPDStepBackend&>(*this); // reads the device, changes no state
-    OpenMM::ContextSelector selector(cc);
-    int numAtoms = cc.getNumAtoms();
-    self.responseRowsKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getAtomIndexArray(), self.responseField, self.responseRows);
-    return self.sumOfRows(self.responseRows, numAtoms);
+    return forcing->responseOfVelocities(); // reads the device; the backend's state does not change
 }
 
 void CommonDPDStepBackend::applyForcingImpulse(double xi) {
-    OpenMM::ContextSelector selector(cc);
-    int numAtoms = cc.getNumAtoms();
-    impulseKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getAtomIndexArray(), forcingField, xi);
+    forcing->applyImpulse(xi);
 }
 
 std::vector<Vec3> CommonDPDStepBackend::getStoredForces(Vec3* box) const {

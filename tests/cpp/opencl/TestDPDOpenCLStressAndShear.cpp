@@ -1,0 +1,231 @@
+// The OpenCL platform's stress accumulation and Lees-Edwards shear (platforms/common; pocl on the CPU in
+// CI): VV's stress samples against Reference part by part, stress leaving the trajectory alone, ABOBA's
+// pressure, the sheared viscosity and sheared chains against the CPU, sheared runs' bits and checkpoints.
+
+#include "OpenCLTestSupport.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/HarmonicBondForce.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/VerletIntegrator.h"
+#include "openmmdpd/DPDColourDrift.h"
+#include "openmmdpd/DPDShearProfile.h"
+#include <gtest/gtest.h>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+using namespace OpenMM;
+using namespace OpenMMDPD;
+using namespace OpenMMDPDTest;
+
+namespace {
+
+/** The four parts of the stress statistics, one after another (36 values). */
+std::vector<double> stressParts(const DPDIntegrator::StressStatistics& statistics) {
+    std::vector<double> parts;
+    for (const double* part : {statistics.kinetic, statistics.conservative, statistics.dissipative, statistics.random})
+        parts.insert(parts.end(), part, part+9);
+    return parts;
+}
+
+} // namespace
+
+TEST(OpenCLStress, VelocityVerletSamplesMatchReference) {
+    // VV's step does not depend on the pair order (see VelocityVerletStepMatchesReference), so its stress
+    // samples must agree with Reference part by part: kinetic and conservative (the DPDForce's force
+    // pass) at q^{n+1}, dissipative and random from F^D + F^R.  Double precision; tolerance 1e-9 of
+    // each part's largest entry (fixed-point forces give ~1e-11).
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    DPDIntegrator reference(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::VV), device(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::VV);
+    for (DPDIntegrator* integrator : {&reference, &device}) {
+        integrator->setRandomNumberSeed(77);
+        integrator->setStressAccumulation(true);
+    }
+    auto referenceContext = makeContext(start, reference, "Reference");
+    auto deviceContext = openCLContext(*start.fluid.system, device);
+    deviceContext->setPositions(start.fluid.positions);
+    deviceContext->setVelocities(start.velocities);
+    reference.step(3);
+    device.step(3);
+    DPDIntegrator::StressStatistics expected = reference.getStressStatistics(), actual = device.getStressStatistics();
+    EXPECT_EQ(actual.steps, 3);
+    std::vector<double> e = stressParts(expected), a = stressParts(actual);
+    const char* names[4] = {"kinetic", "conservative", "dissipative", "random"};
+    for (int part = 0; part < 4; part++) {
+        double scale = 0.0;
+        for (int k = 0; k < 9; k++)
+            scale = std::max(scale, std::fabs(e[9*part+k]));
+        ASSERT_GT(scale, 0.0) << names[part];
+        for (int k = 0; k < 9; k++)
+            EXPECT_NEAR(a[9*part+k], e[9*part+k], 1e-9*scale) << names[part] << " entry " << k;
+    }
+}
+
+TEST(OpenCLStress, AccumulatingStressLeavesTheTrajectoryAlone) {
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    for (const char* scheme : {"ABOBA", "S1", "BAOOAB"}) {
+        Snapshot runs[2];
+        for (int withStress = 0; withStress < 2; withStress++) {
+            DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, scheme);
+            integrator.setRandomNumberSeed(5);
+            integrator.setStressAccumulation(withStress == 1);
+            auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+            context->setPositions(start.fluid.positions);
+            context->setVelocities(start.velocities);
+            integrator.step(60);
+            runs[withStress] = snapshot(*context);
+            if (withStress == 1) {
+                EXPECT_EQ(integrator.getStressStatistics().steps, 60);
+            }
+        }
+        EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << scheme;
+    }
+}
+
+TEST(OpenCLStress, ABOBAPressureAgreesWithTheCPU) {
+    // ABOBA at gamma = 40.5, dt = 0.03, N = 375: the pressure tr(sigma)/3 of every part summed (the
+    // O sweep's dissipative and random parts included), sampled as the mean over each 10 steps, 60
+    // samples after 100 steps, on OpenCL (mixed) and on the CPU; the two means must agree within 5
+    // combined block standard errors (the sweep orders differ, the distributions must not).
+    EquilibratedFluid start = equilibratedSoftFluid(375);
+    BlockEstimate pressure[2];
+    const char* platforms[2] = {"OpenCL", "CPU"};
+    for (int p = 0; p < 2; p++) {
+        DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, DPDIntegrator::ABOBA);
+        integrator.setRandomNumberSeed(21);
+        integrator.setStressAccumulation(true);
+        auto context = p == 0 ? openCLContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
+        context->setPositions(start.fluid.positions);
+        context->setVelocities(start.velocities);
+        integrator.step(100);
+        std::vector<double> samples;
+        for (int k = 0; k < 60; k++) {
+            integrator.resetStressStatistics();
+            integrator.step(10);
+            DPDIntegrator::StressStatistics s = integrator.getStressStatistics();
+            double trace = 0.0;
+            for (const double* part : {s.kinetic, s.conservative, s.dissipative, s.random})
+                trace += part[0]+part[4]+part[8];
+            samples.push_back(-trace/(3.0*s.steps));
+        }
+        pressure[p] = blockAverage(samples, 12);
+        std::printf("[ measured ] %s ABOBA pressure %.4f +- %.4f\n", platforms[p], pressure[p].mean, pressure[p].standardError);
+    }
+    EXPECT_NEAR(pressure[0].mean, pressure[1].mean, 5*std::hypot(pressure[0].standardError, pressure[1].standardError));
+    EXPECT_GT(pressure[0].mean, 10.0); // the soft fluid at density 3: p ~ 23 (Groot and Warren), far from 0
+}
+
+namespace {
+
+/** eta = <sigma_xy>/kappa (Shang 2021 eq. 3.4; sigma = -P) from `samples` means of `stepsPerSample` steps each (every part of the stress), after `equilibration` steps. */
+BlockEstimate shearViscosity(Context& context, DPDIntegrator& integrator, double shearRate, int equilibration, int samples, int stepsPerSample) {
+    integrator.step(equilibration);
+    std::vector<double> viscosity;
+    for (int k = 0; k < samples; k++) {
+        integrator.resetStressStatistics();
+        integrator.step(stepsPerSample);
+        DPDIntegrator::StressStatistics s = integrator.getStressStatistics();
+        double xy = 0.0;
+        for (const double* part : {s.kinetic, s.conservative, s.dissipative, s.random})
+            xy += 0.5*(part[1]+part[3]);
+        viscosity.push_back(xy/s.steps/shearRate);
+    }
+    return blockAverage(viscosity, 10);
+}
+
+} // namespace
+
+TEST(OpenCLLeesEdwards, ShearViscosityAgreesWithTheCPU) {
+    // The sheared soft fluid, N = 375 (L = 5), gamma = 4.5, kappa = 0.5, ABOBA at dt = 0.04: the viscosity
+    // <sigma_xy>/kappa from the full stress (the sweep's relative velocities carry the streaming term
+    // kappa r e_x e_y, the drift is the exact sheared flight, the images slide) on OpenCL and on the CPU,
+    // 80 means of 25 steps after 200: the two agree within 5 combined block standard errors.  Measured:
+    // 0.873 +- 0.029 (OpenCL), 0.854 +- 0.027 (CPU).
+    EquilibratedFluid start = equilibratedSoftFluid(375);
+    BlockEstimate viscosity[2];
+    const char* platforms[2] = {"OpenCL", "CPU"};
+    for (int p = 0; p < 2; p++) {
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, DPDIntegrator::ABOBA);
+        integrator.setRandomNumberSeed(31);
+        integrator.setLeesEdwards(0.5);
+        integrator.setStressAccumulation(true);
+        auto context = p == 0 ? openCLContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
+        context->setPositions(start.fluid.positions);
+        context->setVelocities(start.velocities);
+        viscosity[p] = shearViscosity(*context, integrator, 0.5, 200, 80, 25);
+        std::printf("[ measured ] %s sheared ABOBA viscosity %.4f +- %.4f\n", platforms[p], viscosity[p].mean, viscosity[p].standardError);
+    }
+    EXPECT_NEAR(viscosity[0].mean, viscosity[1].mean, 5*std::hypot(viscosity[0].standardError, viscosity[1].standardError));
+    EXPECT_GT(viscosity[0].mean, 5*viscosity[0].standardError); // resolved: a sign or a missing part would show
+}
+
+TEST(OpenCLLeesEdwards, ShearedRunsRepeatBitForBitAndResumeFromCheckpoints) {
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    auto run = [&](std::stringstream* checkpoint, bool resume) {
+        DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, DPDIntegrator::S1);
+        integrator.setRandomNumberSeed(8);
+        integrator.setLeesEdwards(0.3);
+        auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+        if (resume)
+            context->loadCheckpoint(*checkpoint);
+        else {
+            context->setPositions(start.fluid.positions);
+            context->setVelocities(start.velocities);
+            integrator.step(50);
+            if (checkpoint != nullptr)
+                context->createCheckpoint(*checkpoint);
+        }
+        integrator.step(50);
+        return snapshot(*context);
+    };
+    std::stringstream checkpoint;
+    Snapshot first = run(&checkpoint, false), second = run(nullptr, false), resumed = run(&checkpoint, true);
+    EXPECT_TRUE(bitIdentical(first, second)) << "run to run";
+    EXPECT_TRUE(bitIdentical(first, resumed)) << "checkpoint";
+}
+
+TEST(OpenCLLeesEdwards, ShearedPolymerKeepsMoleculesWholeAndAgreesWithTheCPU) {
+    // Chains of 5 beads joined by HarmonicBondForces that use no periodic boundary conditions (OpenMM's
+    // default): the step wraps each chain whole, so the bonds never stretch across the box (on the host
+    // platforms such bonds once heated the fluid 14-fold).  kappa = 0.5, ABOBA, dt = 0.03, gamma = 4.5:
+    // the peculiar kinetic temperature on OpenCL agrees with the CPU's within 5 combined SE (both carry
+    // the same viscous heating and step bias), and no bond is longer than half the box.  Measured:
+    // 1.096 +- 0.006 (OpenCL), 1.094 +- 0.005 (CPU).
+    EquilibratedFluid start = equilibratedSoftFluid(375);
+    System& system = *start.fluid.system;
+    auto* bonds = new HarmonicBondForce();
+    for (int chain = 0; chain < 75; chain++)
+        for (int k = 0; k < 4; k++)
+            bonds->addBond(5*chain+k, 5*chain+k+1, 0.0, 20.0);
+    system.addForce(bonds);
+    // Start the chains compact: each bead next to the previous one (the equilibrated fluid knows no bonds).
+    std::vector<Vec3> positions = start.fluid.positions;
+    for (int chain = 0; chain < 75; chain++)
+        for (int k = 1; k < 5; k++)
+            positions[5*chain+k] = positions[5*chain]+Vec3(0.1*k, 0.05*k, 0.0);
+    BlockEstimate temperature[2];
+    const char* platforms[2] = {"OpenCL", "CPU"};
+    for (int p = 0; p < 2; p++) {
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.03, DPDIntegrator::ABOBA);
+        integrator.setRandomNumberSeed(4);
+        integrator.setLeesEdwards(0.5);
+        auto context = p == 0 ? openCLContext(system, integrator, "mixed")
+                              : std::make_unique<Context>(system, integrator, platform("CPU"));
+        context->setPositions(positions);
+        context->setVelocities(start.velocities);
+        integrator.step(300);
+        temperature[p] = sampleTemperatures(*context, integrator, 200, 5, false).kineticEstimate();
+        std::printf("[ measured ] %s sheared chains T_kin %.4f +- %.4f\n", platforms[p], temperature[p].mean, temperature[p].standardError);
+        std::vector<Vec3> end = snapshot(*context).positions;
+        double longest = 0.0;
+        for (int chain = 0; chain < 75; chain++)
+            for (int k = 0; k < 4; k++) {
+                Vec3 d = end[5*chain+k+1]-end[5*chain+k];
+                longest = std::max(longest, std::sqrt(d.dot(d)));
+            }
+        EXPECT_LT(longest, 0.5*start.fluid.boxLength) << platforms[p] << ": a bond spans the box: the chain was not wrapped whole";
+    }
+    EXPECT_NEAR(temperature[0].mean, temperature[1].mean, 5*std::hypot(temperature[0].standardError, temperature[1].standardError));
+    EXPECT_LT(temperature[0].mean, 1.3); // far from the 14-fold heating of bonds stretched across the box
+}
+
