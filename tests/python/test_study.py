@@ -75,6 +75,25 @@ def test_the_soft_fluid_scenes_run_the_papers_other_methods_with_their_schemes()
             assert integrator.getScheme() == method
 
 
+def test_the_opencl_methods_run_on_opencl_in_double_and_measure_openmms_gpu_update():
+    # The GPU issue's accuracy half: OpenMM's own DPDIntegrator on OpenCL (its simultaneous O update)
+    # beside its Reference sweep at gamma = 4.5, 40.5 and 450, and our ABOBA on OpenCL beside the CPU's.
+    from openmmdpd.study.scene import OPENCL_METHODS
+    from openmmdpd.study.sweep import method_platform
+    for method in OPENCL_METHODS:
+        platform, properties = method_platform(method, 1)
+        assert platform.getName() == "OpenCL" and properties == {"Precision": "double"}
+    assert method_platform("ABOBA", 2)[0].getName() == "CPU"
+    frictions = set()
+    for path in SCENES:
+        scene = load_scene(path)
+        if {"OpenMM-DPD", "OpenMM-DPD-OpenCL", "ABOBA-OpenCL"} <= set(scene.methods):
+            frictions.add(scene.friction)
+            assert isinstance(scene.integrator("OpenMM-DPD-OpenCL", 0.02, seed=1), mm.DPDIntegrator)
+            assert dpd.DPDIntegrator.cast(scene.integrator("ABOBA-OpenCL", 0.02, seed=1)).getScheme() == "ABOBA"
+    assert frictions == {4.5, 40.5, 450.0}
+
+
 def test_lj_fluid_is_c1_truncated_and_on_a_lattice():
     system, positions = dpd.lj_fluid(num_particles=500, density=0.85, cutoff=2.5)
     box = system.getDefaultPeriodicBoxVectors()[0][0].value_in_unit(mm.unit.nanometer)

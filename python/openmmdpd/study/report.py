@@ -16,7 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .scene import METHOD_DESCRIPTIONS, Scene  # noqa: E402
+from .scene import METHOD_DESCRIPTIONS, OPENCL_METHODS, Scene  # noqa: E402
 from .shear_report import add_viscosity_errors, shear_point, shear_section  # noqa: E402
 from .statistics import configurational_relative_error, critical_step_size_range  # noqa: E402
 from .sweep import RunResult  # noqa: E402
@@ -188,8 +188,11 @@ def write_report(folder: Path, scenes: List[Scene], summaries: List[Dict], budge
                  elapsed: float, command: str, workers: object = 1) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
     machine = machine_description()
+    opencl = [m for m in OPENCL_METHODS if any(m in scene.methods for scene in scenes)]
+    platforms = "CPU platform" + (f" ({', '.join(opencl)}: OpenCL platform, double precision; on a machine without a GPU, "
+                                  "OpenCL on the CPU, whose times per step say nothing about GPUs)" if opencl else "")
     parts = ["# Efficiency study: error against step size and run time", "",
-             f"Command: `{command}`  ", f"Budget: **{budget_name}**; CPU platform; {threads} thread(s) per run; "
+             f"Command: `{command}`  ", f"Budget: **{budget_name}**; {platforms}; {threads} thread(s) per run; "
              f"wall time {elapsed / 60:.1f} min.", "",
              f"Machine: {machine['processor']}, {machine['logical_cores']} logical cores, {machine['system']}; "
              f"OpenMM {machine['openmm']}, Python {machine['python']}. Runs on a Dask cluster "
