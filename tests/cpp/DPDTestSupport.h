@@ -6,6 +6,7 @@
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
+#include "openmmdpd/DPDForcingProfile.h"
 #include "openmm/State.h"
 #include "openmm/System.h"
 #include "openmm/Vec3.h"
@@ -390,6 +391,23 @@ template <class Statement>
         return ::testing::AssertionFailure() << "threw a non-OpenMM exception: " << e.what();
     }
     return ::testing::AssertionFailure() << "did not throw";
+}
+
+/** R = G . p recomputed from the Context's state, independently of the integrator's bookkeeping (NEMD, Norton). */
+inline double measuredResponse(OpenMM::Context& context, const OpenMMDPD::DPDForcingProfile& profile) {
+    OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Velocities);
+    const OpenMM::System& system = context.getSystem();
+    std::vector<double> masses(system.getNumParticles());
+    for (int i = 0; i < system.getNumParticles(); i++)
+        masses[i] = system.getParticleMass(i);
+    OpenMM::Vec3 box[3];
+    state.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    std::vector<OpenMM::Vec3> force, response;
+    profile.evaluate(state.getPositions(), box, masses, force, response);
+    double r = 0.0;
+    for (int i = 0; i < system.getNumParticles(); i++)
+        r += masses[i]*response[i].dot(state.getVelocities()[i]);
+    return r;
 }
 
 } // namespace OpenMMDPDTest

@@ -14,22 +14,6 @@ using namespace OpenMMDPDTest;
 
 namespace {
 
-/** R = G . p recomputed from the Context's state, independently of the integrator's bookkeeping. */
-double measuredResponse(Context& context, const DPDForcingProfile& profile) {
-    State state = context.getState(State::Positions | State::Velocities);
-    const System& system = context.getSystem();
-    std::vector<double> masses(system.getNumParticles());
-    for (int i = 0; i < system.getNumParticles(); i++)
-        masses[i] = system.getParticleMass(i);
-    Vec3 box[3];
-    state.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    std::vector<Vec3> force, response;
-    profile.evaluate(state.getPositions(), box, masses, force, response);
-    double r = 0.0;
-    for (int i = 0; i < system.getNumParticles(); i++)
-        r += masses[i]*response[i].dot(state.getVelocities()[i]);
-    return r;
-}
 
 /** A profile whose response is orthogonal to its force: Norton dynamics cannot control it. */
 class UncontrollableProfile : public DPDForcingProfile {

@@ -11,6 +11,8 @@
 #define LOCAL_SIZE blockDim.x
 #define GLOBAL_ID (blockIdx.x*blockDim.x+threadIdx.x)
 #define GLOBAL_SIZE (blockDim.x*gridDim.x)
+#define GROUP_ID blockIdx.x
+#define NUM_GROUPS gridDim.x
 #define SYNC_THREADS __syncthreads();
 #define ATOMIC_ADD(dest, value) atomicAdd(dest, value)
 typedef long long mm_long;

@@ -3,6 +3,8 @@
 
 #include "openmm/KernelFactory.h"
 #include "openmm/common/ComputeContext.h"
+#include <memory>
+#include <string>
 
 namespace OpenMMDPD {
 
@@ -13,6 +15,8 @@ namespace OpenMMDPD {
 class CommonDPDKernelFactory : public OpenMM::KernelFactory {
 public:
     OpenMM::KernelImpl* createKernelImpl(std::string name, const OpenMM::Platform& platform, OpenMM::ContextImpl& context) const override;
+    /** Register `factory` (owned by OpenMM from then on) for the plugin's kernel names on the platform of that name, if it is loaded. */
+    static void registerOn(const std::string& platformName, CommonDPDKernelFactory* factory);
 
 protected:
     virtual OpenMM::ComputeContext& computeContextOf(OpenMM::ContextImpl& context) const = 0;

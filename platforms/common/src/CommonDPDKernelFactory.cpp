@@ -14,3 +14,15 @@ OpenMM::KernelImpl* CommonDPDKernelFactory::createKernelImpl(std::string name, c
         return new CommonDPDIntegrateStepKernel(name, platform, cc);
     throw OpenMM::OpenMMException("CommonDPDKernelFactory: no kernel named '"+name+"'");
 }
+
+void CommonDPDKernelFactory::registerOn(const std::string& platformName, CommonDPDKernelFactory* factory) {
+    std::unique_ptr<CommonDPDKernelFactory> owned(factory); // deleted unless a platform takes it
+    for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++) {
+        OpenMM::Platform& platform = OpenMM::Platform::getPlatform(i);
+        if (platform.getName() == platformName) {
+            platform.registerKernelFactory(CalcDPDForceKernel::Name(), owned.get());
+            platform.registerKernelFactory(IntegrateDPDStepKernel::Name(), owned.release());
+            return;
+        }
+    }
+}

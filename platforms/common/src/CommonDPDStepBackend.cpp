@@ -19,7 +19,8 @@ using OpenMM::Vec3;
 namespace {
 
 constexpr double fixedPointScale = 4294967296.0; // OpenMM's fixed-point forces: 2^32 units per kJ/mol/nm
-enum SweepMode { OrnsteinUhlenbeck = 0, BBK = 1, DissipativeAndRandomForces = 2 }; // dpdSplittingStep.cc
+enum SweepMode { OrnsteinUhlenbeck = 0, BBK = 1, DissipativeAndRandomForces = 2 }; // dpdPairSweep.cc
+constexpr int sweepLanes = 32; // one work-group of a warp's width per block (dpdPairSweep.cc)
 
 [[noreturn]] void notYetOnThisPlatform(const std::string& what) {
     throw OpenMM::OpenMMException("DPDIntegrator: "+what+" is not available on the OpenCL and CUDA platforms yet; use the "
@@ -71,16 +72,7 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     cc.addReorderListener(new AtomReorderListener(*this)); // the context owns and deletes it
     shear = std::make_unique<CommonDPDLeesEdwards>(cc, program);
     forcing = std::make_unique<CommonDPDForcing>(cc, program, system);
-    largestCutoff = friction.maxCutoff;
-    for (int k = 0; k < system.getNumForces(); k++) {
-        const OpenMM::Force& force = system.getForce(k);
-        if (auto* dpd = dynamic_cast<const DPDForce*>(&force))
-            largestCutoff = std::max(largestCutoff, dpd->getTable().compile(system.getNumParticles()).maxCutoff);
-        else if (auto* custom = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force))
-            largestCutoff = std::max(largestCutoff, custom->getCutoffDistance());
-        else if (auto* nonbonded = dynamic_cast<const OpenMM::NonbondedForce*>(&force))
-            largestCutoff = std::max(largestCutoff, nonbonded->getCutoffDistance());
-    }
+    largestCutoff = DPDLeesEdwardsFlow::largestCutoff(system, friction.maxCutoff);
     if (integrator.getShearRate() != 0.0)
         DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
     stress = std::make_unique<CommonDPDStressAccumulator>(cc, program);
@@ -310,14 +302,14 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
         if (!layout.colourIsUsed(colour))
             continue;
         if (cc.getUseMixedPrecision())
-            sweepKernel.run(layout.blocksPerColour, -1, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
+            sweepKernel.run(layout.blocksPerColour*sweepLanes, sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(),
                             grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
                             friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress,
                             blockStress, shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs,
                             n*layout.blocksPerColour);
         else
-            sweepKernel.run(layout.blocksPerColour, -1, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
+            sweepKernel.run(layout.blocksPerColour*sweepLanes, sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(),
                             cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
                             request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress, blockStress,

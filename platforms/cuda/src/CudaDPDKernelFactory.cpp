@@ -1,6 +1,4 @@
 #include "CudaDPDKernelFactory.h"
-#include "CommonDPDCalcForceKernel.h"
-#include "CommonDPDIntegrateStepKernel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/cuda/CudaContext.h"
 #include "openmm/cuda/CudaPlatform.h"
@@ -13,14 +11,7 @@ extern "C" OPENMM_EXPORT void registerPlatforms() {
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {
-    for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++) {
-        OpenMM::Platform& platform = OpenMM::Platform::getPlatform(i);
-        if (platform.getName() == "CUDA") {
-            auto* factory = new CudaDPDKernelFactory();
-            platform.registerKernelFactory(CalcDPDForceKernel::Name(), factory);
-            platform.registerKernelFactory(IntegrateDPDStepKernel::Name(), factory);
-        }
-    }
+    CommonDPDKernelFactory::registerOn("CUDA", new CudaDPDKernelFactory());
 }
 
 OpenMM::ComputeContext& CudaDPDKernelFactory::computeContextOf(OpenMM::ContextImpl& context) const {

@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_DPDPAIRENGINE_H_
 #define OPENMMDPD_DPDPAIRENGINE_H_
 
+#include "DPDPairFormulas.h"
 #include "DPDPairRandom.h"
 #include "openmm/Vec3.h"
 #include "openmmdpd/DPDTypePairTable.h"
@@ -22,13 +23,7 @@ struct DPDPairStressSums {
     double dissipative[6] = {}, random[6] = {};
     /** Add r (part) e (x) e to `sums`. */
     static void addPair(double* sums, double r, double part, double ex, double ey, double ez) {
-        double s = r*part;
-        sums[0] += s*ex*ex;
-        sums[1] += s*ey*ey;
-        sums[2] += s*ez*ez;
-        sums[3] += s*ex*ey;
-        sums[4] += s*ex*ez;
-        sums[5] += s*ey*ez;
+        dpdAddPairStress(sums, r, part, ex, ey, ez); // DPDPairFormulas.h: one formula for host and kernels
     }
     /** Add a pair's r e (x) e times the two parts of its update along e (e: the pair's unit vector). */
     void addPair(double r, const OpenMM::Vec3& e, double dissipativePart, double randomPart) {

@@ -53,16 +53,7 @@ DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIn
     Vec3 box[3];
     system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
-    largestCutoff = friction.maxCutoff;
-    for (int k = 0; k < system.getNumForces(); k++) {
-        const OpenMM::Force& force = system.getForce(k);
-        if (auto* dpd = dynamic_cast<const DPDForce*>(&force))
-            largestCutoff = std::max(largestCutoff, dpd->getTable().compile(system.getNumParticles()).maxCutoff);
-        else if (auto* custom = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force))
-            largestCutoff = std::max(largestCutoff, custom->getCutoffDistance());
-        else if (auto* nonbonded = dynamic_cast<const OpenMM::NonbondedForce*>(&force))
-            largestCutoff = std::max(largestCutoff, nonbonded->getCutoffDistance());
-    }
+    largestCutoff = DPDLeesEdwardsFlow::largestCutoff(system, friction.maxCutoff);
     if (integrator.getShearRate() != 0.0)
         DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
 

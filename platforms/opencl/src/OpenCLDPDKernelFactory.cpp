@@ -1,6 +1,4 @@
 #include "OpenCLDPDKernelFactory.h"
-#include "CommonDPDCalcForceKernel.h"
-#include "CommonDPDIntegrateStepKernel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
 #include "openmm/internal/windowsExport.h"
@@ -13,14 +11,7 @@ extern "C" OPENMM_EXPORT void registerPlatforms() {
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {
-    for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++) {
-        OpenMM::Platform& platform = OpenMM::Platform::getPlatform(i);
-        if (platform.getName() == "OpenCL") {
-            auto* factory = new OpenCLDPDKernelFactory();
-            platform.registerKernelFactory(CalcDPDForceKernel::Name(), factory);
-            platform.registerKernelFactory(IntegrateDPDStepKernel::Name(), factory);
-        }
-    }
+    CommonDPDKernelFactory::registerOn("OpenCL", new OpenCLDPDKernelFactory());
 }
 
 OpenMM::ComputeContext& OpenCLDPDKernelFactory::computeContextOf(OpenMM::ContextImpl& context) const {

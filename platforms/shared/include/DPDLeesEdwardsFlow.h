@@ -33,6 +33,11 @@ public:
      * c = (0, 0, L_z) with |b_x| <= L_x/2, and `cutoff` <= L_y/2.
      */
     static void checkBox(const OpenMM::System& system, const OpenMM::Vec3* box, double cutoff, double shearRate);
+    /**
+     * The largest cutoff checkBox must hold against L_y/2: the friction's, and those of the System's
+     * DPDForces, CustomNonbondedForces and NonbondedForces.
+     */
+    static double largestCutoff(const OpenMM::System& system, double frictionCutoff);
 
     /** Remember the offset b_x at the start of a step. */
     void beginStep(const OpenMM::Vec3* box) { offsetAtStepStart = box[1][0]; }

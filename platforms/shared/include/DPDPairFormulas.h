@@ -88,6 +88,21 @@ DPD_FUNCTION DPDPairUpdate dissipativeAndRandomForce(double gamma, double w, dou
     return dpdPairUpdate(-gamma*w*w, sqrt(2.0*gamma*kT/dt)*w*R);
 }
 
+/**
+ * Add r (part) e (x) e to the six sums (xx, yy, zz, xy, xz, yz) of a symmetric tensor: a pair's share
+ * of the Irving-Kirkwood stress (Shang 2021 eq. 3.3), with `part` a force or momentum change along e_ij
+ * (or one of its parts: dissipative, random).
+ */
+DPD_FUNCTION void dpdAddPairStress(double* sums, double r, double part, double ex, double ey, double ez) {
+    double s = r*part;
+    sums[0] += s*ex*ex;
+    sums[1] += s*ey*ey;
+    sums[2] += s*ez*ez;
+    sums[3] += s*ex*ey;
+    sums[4] += s*ex*ez;
+    sums[5] += s*ey*ez;
+}
+
 DPD_END_NAMESPACE
 
 #endif

@@ -4,6 +4,10 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/System.h"
 #include "openmm/CustomAngleForce.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/NonbondedForce.h"
+#include "openmmdpd/DPDForce.h"
+#include <algorithm>
 #include "openmm/CustomCentroidBondForce.h"
 #include "openmm/CustomCompoundBondForce.h"
 #include "openmm/CustomTorsionForce.h"
@@ -38,6 +42,20 @@ void DPDLeesEdwardsFlow::checkBox(const OpenMM::System& system, const Vec3* box,
                 << 0.5*box[1][1] << " nm";
         throw OpenMM::OpenMMException(message.str());
     }
+}
+
+double DPDLeesEdwardsFlow::largestCutoff(const OpenMM::System& system, double frictionCutoff) {
+    double largest = frictionCutoff;
+    for (int k = 0; k < system.getNumForces(); k++) {
+        const OpenMM::Force& force = system.getForce(k);
+        if (auto* dpd = dynamic_cast<const DPDForce*>(&force))
+            largest = std::max(largest, dpd->getTable().compile(system.getNumParticles()).maxCutoff);
+        else if (auto* custom = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force))
+            largest = std::max(largest, custom->getCutoffDistance());
+        else if (auto* nonbonded = dynamic_cast<const OpenMM::NonbondedForce*>(&force))
+            largest = std::max(largest, nonbonded->getCutoffDistance());
+    }
+    return largest;
 }
 
 double DPDLeesEdwardsFlow::reducedOffset(double offset, double boxLengthX) {

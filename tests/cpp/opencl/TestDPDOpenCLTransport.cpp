@@ -18,25 +18,6 @@ using namespace OpenMM;
 using namespace OpenMMDPD;
 using namespace OpenMMDPDTest;
 
-namespace {
-
-/** R = G(q) . p of `profile` at the Context's state, computed on the host from a State. */
-double responseOfState(Context& context, const DPDForcingProfile& profile) {
-    State state = context.getState(State::Positions | State::Velocities);
-    std::vector<double> masses;
-    for (int i = 0; i < context.getSystem().getNumParticles(); i++)
-        masses.push_back(context.getSystem().getParticleMass(i));
-    Vec3 box[3];
-    state.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    std::vector<Vec3> force, response;
-    profile.evaluate(state.getPositions(), box, masses, force, response);
-    double r = 0.0;
-    for (std::size_t i = 0; i < masses.size(); i++)
-        r += masses[i]*response[i].dot(state.getVelocities()[i]);
-    return r;
-}
-
-} // namespace
 
 class OpenCLNorton : public ::testing::TestWithParam<std::string> {};
 
@@ -63,7 +44,7 @@ TEST_P(OpenCLNorton, ResponseHeldAtTheTargetToRoundOff) {
     double worst = 0.0;
     for (int block = 0; block < 10; block++) {
         integrator.step(200);
-        worst = std::max(worst, std::fabs(responseOfState(*context, *profile)-r));
+        worst = std::max(worst, std::fabs(measuredResponse(*context, *profile)-r));
         worst = std::max(worst, std::fabs(integrator.getTransportStatistics().lastResponse-r));
     }
     EXPECT_LT(worst, 1e-10*std::fabs(r));

@@ -17,6 +17,17 @@
 #define DPD_POSITION(i) posq[i]
 #endif
 
+/** A position written back: in mixed precision as the float posq and its float correction. */
+DEVICE void dpdStorePosition(DPD_POSITIONS, int i, mixed4 position) {
+#ifdef USE_MIXED_PRECISION
+    real4 rounded = make_real4((real) position.x, (real) position.y, (real) position.z, posq[i].w);
+    posq[i] = rounded;
+    posqCorrection[i] = make_real4((real) (position.x-rounded.x), (real) (position.y-rounded.y), (real) (position.z-rounded.z), 0);
+#else
+    posq[i] = position;
+#endif
+}
+
 #if defined(__OPENCL_VERSION__)
 #define DPD_DOUBLE_BITS(x) as_long(x)
 #else

@@ -50,15 +50,8 @@ KERNEL void dpdConservativeForces(int numAtoms, GLOBAL const real4* RESTRICT pos
                         fy += (mm_long) (forceOverR*deltaY*(double) 0x100000000);
                         fz += (mm_long) (forceOverR*deltaZ*(double) 0x100000000);
                         energy += 0.25*repulsion[pairType]*rc*w*w; // half of the pair's energy: each pair is seen twice
-                        if (computeVirial) {
-                            double halfForceOverR = 0.5*forceOverR;
-                            virial[0] += halfForceOverR*deltaX*deltaX;
-                            virial[1] += halfForceOverR*deltaY*deltaY;
-                            virial[2] += halfForceOverR*deltaZ*deltaZ;
-                            virial[3] += halfForceOverR*deltaX*deltaY;
-                            virial[4] += halfForceOverR*deltaX*deltaZ;
-                            virial[5] += halfForceOverR*deltaY*deltaZ;
-                        }
+                        if (computeVirial) // r e (x) F: half of the pair's share, as each pair is seen twice
+                            dpdAddPairStress(virial, r, 0.5*repulsion[pairType]*w, deltaX/r, deltaY/r, deltaZ/r);
                     }
                 }
         if (includeForces) {

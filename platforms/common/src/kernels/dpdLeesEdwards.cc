@@ -6,22 +6,6 @@
  * inMolecule) and found in OpenMM's order through atomOf, the inverse of atomIndex.
  */
 
-#ifdef USE_MIXED_PRECISION
-#define DPD_MUTABLE_POSITIONS GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection
-#else
-#define DPD_MUTABLE_POSITIONS GLOBAL real4* RESTRICT posq
-#endif
-
-DEVICE void dpdStorePosition(DPD_MUTABLE_POSITIONS, int i, mixed4 position) {
-#ifdef USE_MIXED_PRECISION
-    real4 rounded = make_real4((real) position.x, (real) position.y, (real) position.z, posq[i].w);
-    posq[i] = rounded;
-    posqCorrection[i] = make_real4((real) (position.x-rounded.x), (real) (position.y-rounded.y), (real) (position.z-rounded.z), 0);
-#else
-    posq[i] = position;
-#endif
-}
-
 /** Move `position` by -(shiftA a + shiftB b + shiftC c), b carrying the offset b_x (boxSize.w). */
 DEVICE mixed4 dpdShiftByLattice(mixed4 position, double shiftA, double shiftB, double shiftC, double4 boxSize) {
     position.z -= (mixed) (shiftC*boxSize.z);
@@ -38,7 +22,7 @@ KERNEL void dpdInvertAtomIndex(int numAtoms, GLOBAL const int* RESTRICT atomInde
 }
 
 /** Every particle in no molecule of several: into the primary cell (DPDPeriodicBox::wrapIntoBox, axis by axis). */
-KERNEL void dpdWrapParticles(int numAtoms, DPD_MUTABLE_POSITIONS, GLOBAL const int* RESTRICT atomIndex,
+KERNEL void dpdWrapParticles(int numAtoms, DPD_POSITIONS, GLOBAL const int* RESTRICT atomIndex,
                              GLOBAL const int* RESTRICT inMolecule, double4 boxSize, double4 inverseBoxSize) {
     for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
         if (inMolecule[atomIndex[i]])
@@ -57,7 +41,7 @@ KERNEL void dpdWrapParticles(int numAtoms, DPD_MUTABLE_POSITIONS, GLOBAL const i
 }
 
 /** Every molecule of several particles by the lattice vector that wraps its centre (DPDLeesEdwardsFlow::wrapIntoPrimaryCell). */
-KERNEL void dpdWrapMolecules(int numMolecules, DPD_MUTABLE_POSITIONS, GLOBAL const int* RESTRICT moleculeStart,
+KERNEL void dpdWrapMolecules(int numMolecules, DPD_POSITIONS, GLOBAL const int* RESTRICT moleculeStart,
                              GLOBAL const int* RESTRICT moleculeAtoms, GLOBAL const int* RESTRICT atomOf, double4 boxSize,
                              double4 inverseBoxSize) {
     for (int m = GLOBAL_ID; m < numMolecules; m += GLOBAL_SIZE) {

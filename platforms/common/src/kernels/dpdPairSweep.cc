@@ -1,0 +1,199 @@
+/*
+ * The pair sweeps of the GPU platforms (CommonDPDStepBackend): the exact OU sweep O, Shardlow's BBK
+ * sweep and VV's F^D + F^R, with the per-pair formulas and random numbers every platform shares
+ * (DPDPairFormulas.h, DPDPairRandom.h).
+ *
+ * One colour of the cell grid's blocks per launch (CommonDPDCellGrid: two blocks of a colour share no
+ * particle), one work-group of DPD_SWEEP_LANES lanes per block.  The block's pairs are swept one after
+ * another, each update seeing the velocities the previous ones left (the successive sweep, Shang 2021
+ * eq. 2.10, sec. 2.3), in a fixed order: the block's cells (z, y, x), each cell's particles i (System
+ * order), and for each i its partners j after it in its cell, then in the 13 cells of the half stencil;
+ * `reversed` runs all of it backwards (with the colours in reverse, the reverse of the whole sweep:
+ * BAOOAB's second O sweep).
+ *
+ * Each pair update is Delta p = slope u + offset along e_ij (DPDPairFormulas.h), with slope and offset
+ * independent of the velocities: for one particle i the lanes compute, in parallel, everything of its
+ * partners that the positions and random numbers decide (e_ij, r, slope, offset, the streaming term)
+ * and load the partners' velocities into local memory, chunk by chunk; lane 0 then runs the cheap
+ * affine chain over them in order, and the lanes write the partners back.  The chain is the sequential
+ * sweep itself, so the result does not depend on the number of lanes.
+ */
+
+#define DPD_SWEEP_ORNSTEIN_UHLENBECK 0
+#define DPD_SWEEP_BBK 1
+#define DPD_SWEEP_DISSIPATIVE_AND_RANDOM_FORCES 2
+#define DPD_SWEEP_CHUNK 64
+
+/** The 13 neighbour cells of the half stencil: (dx, dy, dz) after (0, 0, 0) in the order z, then y, then x. */
+DEVICE int dpdHalfStencilOffset(int k, int axis) {
+    int n = k+14; // offsets 14..26 of the 27 in (dz, dy, dx) order, dz slowest: exactly those after (0, 0, 0)
+    int d = axis == 0 ? n%3 : (axis == 1 ? (n/3)%3 : n/9);
+    return d-1;
+}
+
+KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocksInColour, DPD_POSITIONS, double4 boxSize,
+                           double4 inverseBoxSize, GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT cellStart,
+                           GLOBAL const int* RESTRICT cellAtoms, GLOBAL const int* RESTRICT atomIndex,
+                           GLOBAL const int* RESTRICT typeOf, GLOBAL const double* RESTRICT friction,
+                           GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff, double kT, double dt,
+                           mm_ulong randomKey, int mode, int reversed, GLOBAL mm_long* RESTRICT forces, int forcesStored,
+                           int gatherStress, GLOBAL double* RESTRICT blockStress, double shearRate, int withResponse,
+                           GLOBAL const double* RESTRICT responseField, GLOBAL double* RESTRICT blockResponse, int firstResponseRow) {
+    LOCAL int partner[DPD_SWEEP_CHUNK];           // j, or -1: no pair
+    LOCAL double pairSlope[DPD_SWEEP_CHUNK], pairOffset[DPD_SWEEP_CHUNK], pairR[DPD_SWEEP_CHUNK];
+    LOCAL double pairEx[DPD_SWEEP_CHUNK], pairEy[DPD_SWEEP_CHUNK], pairEz[DPD_SWEEP_CHUNK];
+    LOCAL double pairStreaming[DPD_SWEEP_CHUNK];  // the Lees-Edwards part of u (DPDPairFormulas.h)
+    LOCAL double pairResponse[DPD_SWEEP_CHUNK];   // Norton: e . (G_i - G_j)
+    LOCAL mixed4 partnerVelocity[DPD_SWEEP_CHUNK];
+    double maxCutoff2 = maxCutoff*maxCutoff;
+    int halfX = numBlocks.x == 1 ? 1 : numBlocks.x/2, halfY = numBlocks.y == 1 ? 1 : numBlocks.y/2;
+    for (int b = GROUP_ID; b < blocksInColour; b += NUM_GROUPS) {
+        int bx = b%halfX, by = (b/halfX)%halfY, bz = b/(halfX*halfY);
+        bx = numBlocks.x == 1 ? 0 : 2*bx+(colour&1);
+        by = numBlocks.y == 1 ? 0 : 2*by+((colour>>1)&1);
+        bz = numBlocks.z == 1 ? 0 : 2*bz+((colour>>2)&1);
+        int x0 = bx*numCells.x/numBlocks.x, x1 = (bx+1)*numCells.x/numBlocks.x;
+        int y0 = by*numCells.y/numBlocks.y, y1 = (by+1)*numCells.y/numBlocks.y;
+        int z0 = bz*numCells.z/numBlocks.z, z1 = (bz+1)*numCells.z/numBlocks.z;
+        int sizeX = x1-x0, sizeY = y1-y0, numBlockCells = sizeX*sizeY*(z1-z0);
+        double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; // lane 0's sums
+        double response = 0.0;
+        for (int n = 0; n < numBlockCells; n++) {
+            int m = reversed ? numBlockCells-1-n : n;
+            int cx = x0+m%sizeX, cy = y0+(m/sizeX)%sizeY, cz = z0+m/(sizeX*sizeY);
+            int cell = cx+numCells.x*(cy+numCells.y*cz);
+            int begin = cellStart[cell], end = cellStart[cell+1];
+            for (int s = 0; s < end-begin; s++) {
+                int slot = reversed ? end-1-s : begin+s;
+                int i = cellAtoms[slot];
+                // i's candidates in forward order: the later particles of its cell (segment 0), then the
+                // half stencil's cells (segments 1-13).
+                int segmentFirst[14], segmentStart[15];
+                segmentStart[0] = 0;
+                for (int k = 0; k < 14; k++) {
+                    int neighbour = cell, first = slot+1;
+                    if (k > 0) {
+                        int nx = (cx+dpdHalfStencilOffset(k-1, 0)+numCells.x)%numCells.x;
+                        int ny = (cy+dpdHalfStencilOffset(k-1, 1)+numCells.y)%numCells.y;
+                        int nz = (cz+dpdHalfStencilOffset(k-1, 2)+numCells.z)%numCells.z;
+                        neighbour = nx+numCells.x*(ny+numCells.y*nz);
+                        first = cellStart[neighbour];
+                    }
+                    segmentFirst[k] = first;
+                    segmentStart[k+1] = segmentStart[k]+cellStart[neighbour+1]-first;
+                }
+                int numCandidates = segmentStart[14];
+                mixed4 pi = DPD_POSITION(i);
+                int originalI = atomIndex[i];
+                int typeI = typeOf[originalI];
+                mixed4 vi = velm[i]; // lane 0 carries it through the chain
+                for (int chunk = 0; chunk < numCandidates; chunk += DPD_SWEEP_CHUNK) {
+                    int chunkSize = numCandidates-chunk < DPD_SWEEP_CHUNK ? numCandidates-chunk : DPD_SWEEP_CHUNK;
+                    for (int c = LOCAL_ID; c < chunkSize; c += LOCAL_SIZE) {
+                        int index = reversed ? numCandidates-1-(chunk+c) : chunk+c; // in forward order
+                        int k = 0;
+                        while (index >= segmentStart[k+1])
+                            k++;
+                        int j = cellAtoms[segmentFirst[k]+index-segmentStart[k]];
+                        partner[c] = -1;
+                        mixed4 pj = DPD_POSITION(j);
+                        DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y,
+                                                              (double) pi.z-(double) pj.z, boxSize, inverseBoxSize);
+                        double r2 = delta.x*delta.x+delta.y*delta.y+delta.z*delta.z;
+                        if (r2 >= maxCutoff2 || r2 == 0.0)
+                            continue;
+                        int originalJ = atomIndex[j];
+                        int pairType = typeI*numTypes+typeOf[originalJ];
+                        double rc = cutoff[pairType], gamma = friction[pairType];
+                        mixed4 vj = velm[j];
+                        double invReducedMass = (double) vi.w+(double) vj.w;
+                        double r = sqrt(r2);
+                        if (r >= rc || gamma == 0.0 || invReducedMass == 0.0)
+                            continue;
+                        double w = 1.0-r/rc;
+                        double ex = delta.x/r, ey = delta.y/r, ez = delta.z/r;
+                        DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI, originalJ);
+                        DPDPairUpdate update;
+                        if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
+                            update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, 1.0/invReducedMass, kT, dt, R.squaredRadius,
+                                                                  R.cosine);
+                        else if (mode == DPD_SWEEP_BBK)
+                            update = bbkUpdate(gamma, w, invReducedMass, kT, dt, dpdNormal(R));
+                        else
+                            update = dissipativeAndRandomForce(gamma, w, kT, dt, dpdNormal(R));
+                        partner[c] = j;
+                        pairSlope[c] = update.slope;
+                        pairOffset[c] = update.offset;
+                        pairR[c] = r;
+                        pairEx[c] = ex;
+                        pairEy[c] = ey;
+                        pairEz[c] = ez;
+                        pairStreaming[c] = leesEdwardsRelativeVelocity(shearRate, r, ex, ey);
+                        if (withResponse)
+                            pairResponse[c] = ex*(responseField[3*originalI]-responseField[3*originalJ])+
+                                              ey*(responseField[3*originalI+1]-responseField[3*originalJ+1])+
+                                              ez*(responseField[3*originalI+2]-responseField[3*originalJ+2]);
+                        partnerVelocity[c] = vj;
+                    }
+                    SYNC_THREADS;
+                    if (LOCAL_ID == 0) // the successive chain, in order
+                        for (int c = 0; c < chunkSize; c++) {
+                            int j = partner[c];
+                            if (j < 0)
+                                continue;
+                            double ex = pairEx[c], ey = pairEy[c], ez = pairEz[c];
+                            DPDPairUpdate update = dpdPairUpdate(pairSlope[c], pairOffset[c]);
+                            mixed4 vj = partnerVelocity[c];
+                            // The lab-frame relative velocity: peculiar velocities plus the streaming difference.
+                            double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
+                                       pairStreaming[c];
+                            double change = dpdMomentumChange(update, u);
+                            if (withResponse) // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
+                                response += dpdDissipativePart(update, u)*pairResponse[c];
+                            if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts
+                                dpdAddPairStress(stress, pairR[c], dpdDissipativePart(update, u), ex, ey, ez);
+                                dpdAddPairStress(stress+6, pairR[c], update.offset, ex, ey, ez);
+                            }
+                            if (mode == DPD_SWEEP_DISSIPATIVE_AND_RANDOM_FORCES) {
+                                // F^D + F^R to the Context's forces (OpenMM's order) or the stored ones (System order).
+                                mm_long fx = (mm_long) (change*ex*DPD_FIXED_POINT_SCALE), fy = (mm_long) (change*ey*DPD_FIXED_POINT_SCALE);
+                                mm_long fz = (mm_long) (change*ez*DPD_FIXED_POINT_SCALE);
+                                int rowI = forcesStored ? originalI : i, rowJ = forcesStored ? atomIndex[j] : j;
+                                int stride = forcesStored ? NUM_ATOMS : PADDED_NUM_ATOMS;
+                                forces[rowI] += fx;
+                                forces[rowI+stride] += fy;
+                                forces[rowI+2*stride] += fz;
+                                forces[rowJ] -= fx;
+                                forces[rowJ+stride] -= fy;
+                                forces[rowJ+2*stride] -= fz;
+                                continue;
+                            }
+                            vi.x += (mixed) (change*ex*vi.w);
+                            vi.y += (mixed) (change*ey*vi.w);
+                            vi.z += (mixed) (change*ez*vi.w);
+                            vj.x -= (mixed) (change*ex*vj.w);
+                            vj.y -= (mixed) (change*ey*vj.w);
+                            vj.z -= (mixed) (change*ez*vj.w);
+                            partnerVelocity[c] = vj;
+                        }
+                    SYNC_THREADS;
+                    if (mode != DPD_SWEEP_DISSIPATIVE_AND_RANDOM_FORCES)
+                        for (int c = LOCAL_ID; c < chunkSize; c += LOCAL_SIZE)
+                            if (partner[c] >= 0)
+                                velm[partner[c]] = partnerVelocity[c];
+                    SYNC_THREADS;
+                }
+                if (LOCAL_ID == 0 && mode != DPD_SWEEP_DISSIPATIVE_AND_RANDOM_FORCES)
+                    velm[i] = vi;
+                SYNC_THREADS;
+            }
+        }
+        if (LOCAL_ID == 0) {
+            if (gatherStress) // this block's row of the sweep's pair stress (dpdStress.cc sums the rows in order)
+                for (int k = 0; k < 12; k++)
+                    blockStress[12*b+k] = stress[k];
+            if (withResponse)
+                blockResponse[firstResponseRow+b] = response;
+        }
+    }
+}
