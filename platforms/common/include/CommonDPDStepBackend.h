@@ -32,7 +32,9 @@ namespace OpenMMDPD {
  * sweep's G . Delta p^D for Norton) are summed there and read back, one double each, because the
  * scheme layer computes the multipliers; a profile that depends on the positions (ShearProfile) is
  * evaluated on the host from downloaded positions.  Not yet on these platforms (refused with an
- * exception naming it): stress accumulation for a System with forces other than one DPDForce.  No fusion is declared: every operation is its own launch.
+ * exception naming it): stress accumulation for a System with forces other than one DPDForce.
+ * Fusions (DPDStepFusion): a kick and the drift after it in the drift's launch, and across the steps
+ * of one call ABOBA's closing and opening half-drifts in one launch.
  * The sweeps use the grid of the integrated DPDForce's evaluation at the same positions where its
  * cutoff covers the friction's, as the host platforms share its pair list.
  */
@@ -47,7 +49,7 @@ public:
     void endStep(double stepSize, double stressScale) override;
     void abandonStep() override;
     long long getStepCount() const override { return cc.getStepCount(); }
-    DPDFusionSupport fusionSupport() const override { return DPDFusionSupport(); }
+    DPDFusionSupport fusionSupport() const override;
 
     bool useForcesOfPreviousStep(bool withPairs) override;
     void storeForces() override;

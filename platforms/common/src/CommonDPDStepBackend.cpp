@@ -206,6 +206,17 @@ void CommonDPDStepBackend::endStep(double stepSize, double stressScale) {
     cc.reorderAtoms(); // as OpenMM's integrators do (it acts every so many steps, and only with cutoff forces)
 }
 
+DPDFusionSupport CommonDPDStepBackend::fusionSupport() const {
+    DPDFusionSupport support;
+    support.kickBeforeDrift = true; // dpdDrift kicks first, with the same arithmetic as dpdKick
+    support.repeatedDrift = true;   // and drifts `times` times (the sheared flight too, step by step)
+    // Across a step's end only where nothing reads the state between the steps: no stress sample, no
+    // shear (its images move between the drifts), no forcing (its fields are evaluated after the drift).
+    support.stepsMayShareWork = !accumulateStress && !shear->flow().isSheared() && forcedIntegrator != nullptr &&
+                                forcedIntegrator->getForcingMode() == DPDIntegrator::NoForcing;
+    return support;
+}
+
 bool CommonDPDStepBackend::useForcesOfPreviousStep(bool withPairs) {
     if (!state.storedForcesValid || (withPairs && !pairsAtCurrentPositions))
         return false;

@@ -189,6 +189,30 @@ TEST(OpenCLPlatform, RunsWithTheSameSeedAreBitIdentical) {
     }
 }
 
+TEST(OpenCLPlatform, StepNAndNSingleStepsGiveTheSameBits) {
+    // Within one step(n) call the backend fuses a kick into the next drift and ABOBA's closing and
+    // opening half-drifts into one launch (DPDStepFusion); each fusion must give the bits of its
+    // operations one after the other, which n calls of step(1) carry out.
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    for (const char* scheme : {"ABOBA", "VV", "S1", "BAOAB"}) {
+        Snapshot runs[2];
+        for (int single = 0; single < 2; single++) {
+            DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, scheme);
+            integrator.setRandomNumberSeed(6);
+            auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+            context->setPositions(start.fluid.positions);
+            context->setVelocities(start.velocities);
+            if (single == 1)
+                for (int k = 0; k < 30; k++)
+                    integrator.step(1);
+            else
+                integrator.step(30);
+            runs[single] = snapshot(*context);
+        }
+        EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << scheme;
+    }
+}
+
 TEST(OpenCLPlatform, PerTypeParametersSurviveOpenMMsAtomReordering) {
     // A cutoff CustomNonbondedForce (zero energy) makes OpenMM reorder the atoms every 250 steps.  After
     // 600 steps, the DPDForce's two-species forces must still be those Reference computes at the same
