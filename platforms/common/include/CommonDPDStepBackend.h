@@ -33,8 +33,7 @@ namespace OpenMMDPD {
  * scheme layer computes the multipliers; a profile that depends on the positions (ShearProfile) is
  * evaluated on the host from downloaded positions.  Not yet on these platforms (refused with an
  * exception naming it): stress accumulation for a System with forces other than one DPDForce.
- * Fusions (DPDStepFusion): a kick and the drift after it in the drift's launch, and across the steps
- * of one call ABOBA's closing and opening half-drifts in one launch.
+ * Fusion (DPDStepFusion): a kick and the drift after it in the drift's launch.
  * The sweeps use the grid of the integrated DPDForce's evaluation at the same positions where its
  * cutoff covers the friction's, as the host platforms share its pair list.
  */

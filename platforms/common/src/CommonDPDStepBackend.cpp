@@ -207,13 +207,11 @@ void CommonDPDStepBackend::endStep(double stepSize, double stressScale) {
 }
 
 DPDFusionSupport CommonDPDStepBackend::fusionSupport() const {
+    // dpdDrift kicks first, with the same arithmetic as dpdKick: a kick and the drift after it are one
+    // launch (every scheme's closing B A or opening B A).  Nothing is kept across a step's end: ABOBA's
+    // closing and opening half-drifts could share a launch instead, but its closing kick already does.
     DPDFusionSupport support;
-    support.kickBeforeDrift = true; // dpdDrift kicks first, with the same arithmetic as dpdKick
-    support.repeatedDrift = true;   // and drifts `times` times (the sheared flight too, step by step)
-    // Across a step's end only where nothing reads the state between the steps: no stress sample, no
-    // shear (its images move between the drifts), no forcing (its fields are evaluated after the drift).
-    support.stepsMayShareWork = !accumulateStress && !shear->flow().isSheared() && forcedIntegrator != nullptr &&
-                                forcedIntegrator->getForcingMode() == DPDIntegrator::NoForcing;
+    support.kickBeforeDrift = true;
     return support;
 }
 

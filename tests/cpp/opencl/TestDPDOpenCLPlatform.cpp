@@ -190,9 +190,9 @@ TEST(OpenCLPlatform, RunsWithTheSameSeedAreBitIdentical) {
 }
 
 TEST(OpenCLPlatform, StepNAndNSingleStepsGiveTheSameBits) {
-    // Within one step(n) call the backend fuses a kick into the next drift and ABOBA's closing and
-    // opening half-drifts into one launch (DPDStepFusion); each fusion must give the bits of its
-    // operations one after the other, which n calls of step(1) carry out.
+    // Nothing of a step may depend on how the steps are split into calls: the device's record of an
+    // unsound state is read after a call's last step only, and the scheme layer may fuse across the
+    // steps of one call (DPDStepFusion) where a backend declares it.
     EquilibratedFluid start = equilibratedSoftFluid(300);
     for (const char* scheme : {"ABOBA", "VV", "S1", "BAOAB"}) {
         Snapshot runs[2];
