@@ -18,6 +18,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <random>
@@ -41,6 +42,10 @@ inline void loadPlugins() {
     OpenMM::Platform::loadPluginLibrary(std::string(OPENMMDPD_PLUGIN_DIR)+"/libOpenMMDPDCPU.so");
 #ifdef OPENMMDPD_OPENCL_PLUGIN
     OpenMM::Platform::loadPluginLibrary(std::string(OPENMMDPD_PLUGIN_DIR)+"/libOpenMMDPDOpenCL.so");
+    // The CUDA plugin loads only where the driver and OpenMM's CUDA platform do (a GPU machine).
+    const char* gpu = std::getenv("OPENMMDPD_GPU_PLATFORM");
+    if (gpu != nullptr && std::string(gpu) == "CUDA")
+        OpenMM::Platform::loadPluginLibrary(std::string(OPENMMDPD_PLUGIN_DIR)+"/libOpenMMDPDCUDA.so");
 #endif
     loaded = true;
 }

@@ -7,15 +7,25 @@
 #include "../DPDTestSupport.h"
 #include <gtest/gtest.h>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <string>
 
 namespace OpenMMDPDTest {
 
+/**
+ * The GPU platform under test: OpenCL, or the one named by OPENMMDPD_GPU_PLATFORM (CUDA on a machine
+ * with an NVIDIA GPU: the same tests then run on the CUDA plugin, which CI only compiles and links).
+ */
+inline std::string gpuPlatformName() {
+    const char* name = std::getenv("OPENMMDPD_GPU_PLATFORM");
+    return name != nullptr && *name != '\0' ? name : "OpenCL";
+}
+
 inline std::unique_ptr<OpenMM::Context> openCLContext(const OpenMM::System& system, OpenMM::Integrator& integrator,
                                                       const std::string& precision = "double") {
-    return std::make_unique<OpenMM::Context>(system, integrator, platform("OpenCL"),
+    return std::make_unique<OpenMM::Context>(system, integrator, platform(gpuPlatformName()),
                                              std::map<std::string, std::string>{{"Precision", precision}});
 }
 
