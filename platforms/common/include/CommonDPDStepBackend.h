@@ -99,7 +99,7 @@ private:
     std::unique_ptr<CommonDPDStressAccumulator> stress;
     bool accumulateStress = false;
     std::string forceWithoutStress; // an integrated force whose stress these platforms cannot take yet ("": none)
-    CommonDPDKernel kickKernel, driftKernel, sweepKernel;
+    CommonDPDKernel kickKernel, driftKernel, sweepKernel, gatherForcesKernel;
     std::unique_ptr<CommonDPDLeesEdwards> shear;
     std::unique_ptr<CommonDPDForcing> forcing;
     const DPDIntegrator* forcedIntegrator = nullptr;

@@ -21,10 +21,10 @@ public:
     CommonDPDStressAccumulator(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram& program);
     /** Before a sampled step: clear the step's sums (and upload statistics set from the host, e.g. a checkpoint). */
     void beginSample();
-    /** Rows of the sweep kernel's per-block pair stress, at least `blocks` of them. */
-    OpenMM::ComputeArray& blockRows(int blocks);
-    /** Add `blocks` rows of blockRows() (one colour of a sweep) to the step's dissipative and random parts. */
-    void addSweepColour(int blocks);
+    /** Rows of 12 for the pair stress of a sweep's blocks or of VV's particles, at least `rows` of them. */
+    OpenMM::ComputeArray& blockRows(int rows);
+    /** Add `rows` rows of blockRows() (one colour of a sweep, or VV's particles) to the step's dissipative and random parts. */
+    void addSweepColour(int rows);
     /** The step's conservative part: the sum of the DPDForce's per-particle virial rows (the latest evaluation's). */
     void takeConservative(OpenMM::ComputeArray& virialRows);
     /** After the step: the kinetic part at these velocities, then the sample into the statistics (pair parts times pairScale). */

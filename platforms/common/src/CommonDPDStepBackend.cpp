@@ -19,7 +19,7 @@ using OpenMM::Vec3;
 namespace {
 
 constexpr double fixedPointScale = 4294967296.0; // OpenMM's fixed-point forces: 2^32 units per kJ/mol/nm
-enum SweepMode { OrnsteinUhlenbeck = 0, BBK = 1, DissipativeAndRandomForces = 2 }; // dpdPairSweep.cc
+enum SweepMode { OrnsteinUhlenbeck = 0, BBK = 1 }; // dpdPairSweep.cc
 constexpr int sweepLanes = 32; // one work-group of a warp's width per block (dpdPairSweep.cc)
 
 [[noreturn]] void notYetOnThisPlatform(const std::string& what) {
@@ -60,6 +60,7 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     kickKernel = CommonDPDKernel(program, "dpdKick");
     driftKernel = CommonDPDKernel(program, "dpdDrift");
     sweepKernel = CommonDPDKernel(program, "dpdSweepColour");
+    gatherForcesKernel = CommonDPDKernel(program, "dpdGatherDissipativeAndRandomForces");
     typeOf.initialize<int>(cc, system.getNumParticles(), "dpdFrictionTypes");
     storedForces.initialize<long long>(cc, 3*system.getNumParticles(), "dpdStoredForces");
     flags.initialize<int>(cc, 1, "dpdUnsoundStep");
@@ -297,9 +298,6 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
     OpenMM::ContextSelector selector(cc);
     const CommonDPDCellGrid::Layout& layout = grid->getLayout();
     std::uint64_t key = request.randomKey; // the kernel's mm_ulong
-    // VV's F^D + F^R go to the latest forces: the Context's, or the stored copy (at the start of a run).
-    OpenMM::ArrayInterface& forces = latestForcesStored ? static_cast<OpenMM::ArrayInterface&>(storedForces) : cc.getLongForceBuffer();
-    int forcesStored = latestForcesStored ? 1 : 0;
     int gatherStress = accumulateStress && request.gatherStress ? 1 : 0;
     OpenMM::ComputeArray& blockStress = stress->blockRows(layout.blocksPerColour);
     // Norton: each block's G . Delta p^D in a row, all colours' rows one after another, summed in order.
@@ -314,14 +312,14 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
             sweepKernel.run(layout.blocksPerColour*sweepLanes, sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(),
                             grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
-                            friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress,
+                            friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, gatherStress,
                             blockStress, shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs,
                             n*layout.blocksPerColour);
         else
             sweepKernel.run(layout.blocksPerColour*sweepLanes, sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(),
                             cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
-                            request.dt, key, mode, request.reversed ? 1 : 0, forces, forcesStored, gatherStress, blockStress,
+                            request.dt, key, mode, request.reversed ? 1 : 0, gatherStress, blockStress,
                             shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs, n*layout.blocksPerColour);
         if (gatherStress)
             stress->addSweepColour(layout.blocksPerColour);
@@ -338,7 +336,27 @@ void CommonDPDStepBackend::sweepBBK(const DPDSweepRequest& request) {
 }
 
 void CommonDPDStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& request) {
-    sweep(DissipativeAndRandomForces, request);
+    if (!pairsAtCurrentPositions)
+        throw OpenMM::OpenMMException("DPDIntegrator: internal error: F^D + F^R without the pairs of the current positions");
+    OpenMM::ContextSelector selector(cc);
+    // To the latest forces: the Context's, or the stored copy (VV's first step of a run).
+    OpenMM::ArrayInterface& forces = latestForcesStored ? static_cast<OpenMM::ArrayInterface&>(storedForces) : cc.getLongForceBuffer();
+    int numAtoms = cc.getNumAtoms(), gatherStress = accumulateStress && request.gatherStress ? 1 : 0;
+    OpenMM::ComputeArray& stressRows = stress->blockRows(gatherStress ? numAtoms : 1); // one row a particle
+    std::uint64_t key = request.randomKey;
+    if (cc.getUseMixedPrecision())
+        gatherForcesKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(),
+                               grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(),
+                               cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
+                               request.dt, key, shear->flow().getShearRate(), cc.getVelm(), forces, latestForcesStored ? 1 : 0,
+                               gatherStress, stressRows);
+    else
+        gatherForcesKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), grid->getBoxSize(), grid->getInverseBoxSize(), grid->getLayout().numCells,
+                               grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf,
+                               frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT, request.dt, key,
+                               shear->flow().getShearRate(), cc.getVelm(), forces, latestForcesStored ? 1 : 0, gatherStress, stressRows);
+    if (gatherStress)
+        stress->addSweepColour(numAtoms);
 }
 
 bool CommonDPDStepBackend::sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& request, double kickDt) {

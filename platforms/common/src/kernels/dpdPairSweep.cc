@@ -1,7 +1,9 @@
 /*
- * The pair sweeps of the GPU platforms (CommonDPDStepBackend): the exact OU sweep O, Shardlow's BBK
- * sweep and VV's F^D + F^R, with the per-pair formulas and random numbers every platform shares
- * (DPDPairFormulas.h, DPDPairRandom.h).
+ * The pair sweeps of the GPU platforms (CommonDPDStepBackend): the exact OU sweep O and Shardlow's BBK
+ * sweep, and VV's F^D + F^R, with the per-pair formulas and random numbers every platform shares
+ * (DPDPairFormulas.h, DPDPairRandom.h).  VV's forces read the velocities before any update, so they
+ * need no order: a gather per particle (dpdGatherDissipativeAndRandomForces).  The successive sweeps
+ * need one:
  *
  * One colour of the cell grid's blocks per launch (CommonDPDCellGrid: two blocks of a colour share no
  * particle), one work-group of DPD_SWEEP_LANES lanes per block.  The block's pairs are swept one after
@@ -21,7 +23,6 @@
 
 #define DPD_SWEEP_ORNSTEIN_UHLENBECK 0
 #define DPD_SWEEP_BBK 1
-#define DPD_SWEEP_DISSIPATIVE_AND_RANDOM_FORCES 2
 #define DPD_SWEEP_CHUNK 64
 
 /** The 13 neighbour cells of the half stencil: (dx, dy, dz) after (0, 0, 0) in the order z, then y, then x. */
@@ -36,8 +37,7 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                            GLOBAL const int* RESTRICT cellAtoms, GLOBAL const int* RESTRICT atomIndex,
                            GLOBAL const int* RESTRICT typeOf, GLOBAL const double* RESTRICT friction,
                            GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff, double kT, double dt,
-                           mm_ulong randomKey, int mode, int reversed, GLOBAL mm_long* RESTRICT forces, int forcesStored,
-                           int gatherStress, GLOBAL double* RESTRICT blockStress, double shearRate, int withResponse,
+                           mm_ulong randomKey, int mode, int reversed, int gatherStress, GLOBAL double* RESTRICT blockStress, double shearRate, int withResponse,
                            GLOBAL const double* RESTRICT responseField, GLOBAL double* RESTRICT blockResponse, int firstResponseRow) {
     LOCAL int partner[DPD_SWEEP_CHUNK];           // j, or -1: no pair
     LOCAL double pairSlope[DPD_SWEEP_CHUNK], pairOffset[DPD_SWEEP_CHUNK], pairR[DPD_SWEEP_CHUNK];
@@ -117,10 +117,8 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                         if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
                             update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, 1.0/invReducedMass, kT, dt, R.squaredRadius,
                                                                   R.cosine);
-                        else if (mode == DPD_SWEEP_BBK)
-                            update = bbkUpdate(gamma, w, invReducedMass, kT, dt, dpdNormal(R));
                         else
-                            update = dissipativeAndRandomForce(gamma, w, kT, dt, dpdNormal(R));
+                            update = bbkUpdate(gamma, w, invReducedMass, kT, dt, dpdNormal(R));
                         partner[c] = j;
                         pairSlope[c] = update.slope;
                         pairOffset[c] = update.offset;
@@ -154,20 +152,6 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                                 dpdAddPairStress(stress, pairR[c], dpdDissipativePart(update, u), ex, ey, ez);
                                 dpdAddPairStress(stress+6, pairR[c], update.offset, ex, ey, ez);
                             }
-                            if (mode == DPD_SWEEP_DISSIPATIVE_AND_RANDOM_FORCES) {
-                                // F^D + F^R to the Context's forces (OpenMM's order) or the stored ones (System order).
-                                mm_long fx = (mm_long) (change*ex*DPD_FIXED_POINT_SCALE), fy = (mm_long) (change*ey*DPD_FIXED_POINT_SCALE);
-                                mm_long fz = (mm_long) (change*ez*DPD_FIXED_POINT_SCALE);
-                                int rowI = forcesStored ? originalI : i, rowJ = forcesStored ? atomIndex[j] : j;
-                                int stride = forcesStored ? NUM_ATOMS : PADDED_NUM_ATOMS;
-                                forces[rowI] += fx;
-                                forces[rowI+stride] += fy;
-                                forces[rowI+2*stride] += fz;
-                                forces[rowJ] -= fx;
-                                forces[rowJ+stride] -= fy;
-                                forces[rowJ+2*stride] -= fz;
-                                continue;
-                            }
                             vi.x += (mixed) (change*ex*vi.w);
                             vi.y += (mixed) (change*ey*vi.w);
                             vi.z += (mixed) (change*ez*vi.w);
@@ -177,13 +161,12 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                             partnerVelocity[c] = vj;
                         }
                     SYNC_THREADS;
-                    if (mode != DPD_SWEEP_DISSIPATIVE_AND_RANDOM_FORCES)
-                        for (int c = LOCAL_ID; c < chunkSize; c += LOCAL_SIZE)
-                            if (partner[c] >= 0)
-                                velm[partner[c]] = partnerVelocity[c];
+                    for (int c = LOCAL_ID; c < chunkSize; c += LOCAL_SIZE)
+                        if (partner[c] >= 0)
+                            velm[partner[c]] = partnerVelocity[c];
                     SYNC_THREADS;
                 }
-                if (LOCAL_ID == 0 && mode != DPD_SWEEP_DISSIPATIVE_AND_RANDOM_FORCES)
+                if (LOCAL_ID == 0)
                     velm[i] = vi;
                 SYNC_THREADS;
             }
@@ -195,5 +178,78 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
             if (withResponse)
                 blockResponse[firstResponseRow+b] = response;
         }
+    }
+}
+
+/**
+ * VV's dissipative and random pair forces F^D + F^R (Shang 2021 eqs. 2.2b, 2.2c) at the current
+ * velocities, added to the Context's forces (OpenMM's order) or the stored ones (System order): one
+ * thread per particle over the 27 cells around its own.  Each pair is computed from both ends, with
+ * exactly opposite results (the separation, the relative velocity and e (x) e change sign together,
+ * the random number is symmetric), rounded to fixed point before it is summed: the forces sum to
+ * exactly zero and no atomic is needed.  With gatherStress, row i of stressRows holds half of the
+ * particle's pairs' dissipative and random stress (12 values, dpdStress.cc sums the rows in order).
+ */
+KERNEL void dpdGatherDissipativeAndRandomForces(int numAtoms, DPD_POSITIONS, double4 boxSize, double4 inverseBoxSize, int4 numCells,
+                                                GLOBAL const int* RESTRICT cellOf, GLOBAL const int* RESTRICT cellStart,
+                                                GLOBAL const int* RESTRICT cellAtoms, GLOBAL const int* RESTRICT atomIndex,
+                                                GLOBAL const int* RESTRICT typeOf, GLOBAL const double* RESTRICT friction,
+                                                GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff, double kT,
+                                                double dt, mm_ulong randomKey, double shearRate, GLOBAL const mixed4* RESTRICT velm,
+                                                GLOBAL mm_long* RESTRICT forces, int forcesStored, int gatherStress,
+                                                GLOBAL double* RESTRICT stressRows) {
+    double maxCutoff2 = maxCutoff*maxCutoff;
+    for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
+        mixed4 pi = DPD_POSITION(i), vi = velm[i];
+        int originalI = atomIndex[i];
+        int typeI = typeOf[originalI];
+        int cell = cellOf[i];
+        int cx = cell%numCells.x, cy = (cell/numCells.x)%numCells.y, cz = cell/(numCells.x*numCells.y);
+        mm_long fx = 0, fy = 0, fz = 0;
+        double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        for (int dz = -1; dz <= 1; dz++)
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    int nx = (cx+dx+numCells.x)%numCells.x, ny = (cy+dy+numCells.y)%numCells.y, nz = (cz+dz+numCells.z)%numCells.z;
+                    int neighbour = nx+numCells.x*(ny+numCells.y*nz);
+                    for (int slot = cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
+                        int j = cellAtoms[slot];
+                        if (j == i)
+                            continue;
+                        mixed4 pj = DPD_POSITION(j);
+                        DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y,
+                                                              (double) pi.z-(double) pj.z, boxSize, inverseBoxSize);
+                        double r2 = delta.x*delta.x+delta.y*delta.y+delta.z*delta.z;
+                        if (r2 >= maxCutoff2 || r2 == 0.0)
+                            continue;
+                        int originalJ = atomIndex[j];
+                        int pairType = typeI*numTypes+typeOf[originalJ];
+                        double rc = cutoff[pairType], gamma = friction[pairType];
+                        mixed4 vj = velm[j];
+                        double r = sqrt(r2);
+                        if (r >= rc || gamma == 0.0 || (double) vi.w+(double) vj.w == 0.0)
+                            continue;
+                        double w = 1.0-r/rc;
+                        double ex = delta.x/r, ey = delta.y/r, ez = delta.z/r;
+                        DPDPairUpdate force = dissipativeAndRandomForce(gamma, w, kT, dt, dpdNormal(dpdPairNormalFactors(randomKey, originalI, originalJ)));
+                        double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
+                                   leesEdwardsRelativeVelocity(shearRate, r, ex, ey);
+                        double magnitude = dpdMomentumChange(force, u);
+                        fx += (mm_long) (magnitude*ex*DPD_FIXED_POINT_SCALE);
+                        fy += (mm_long) (magnitude*ey*DPD_FIXED_POINT_SCALE);
+                        fz += (mm_long) (magnitude*ez*DPD_FIXED_POINT_SCALE);
+                        if (gatherStress) { // half of the pair's share: each pair is seen from both ends
+                            dpdAddPairStress(stress, r, 0.5*dpdDissipativePart(force, u), ex, ey, ez);
+                            dpdAddPairStress(stress+6, r, 0.5*force.offset, ex, ey, ez);
+                        }
+                    }
+                }
+        int row = forcesStored ? originalI : i, stride = forcesStored ? NUM_ATOMS : PADDED_NUM_ATOMS;
+        forces[row] += fx;
+        forces[row+stride] += fy;
+        forces[row+2*stride] += fz;
+        if (gatherStress)
+            for (int k = 0; k < 12; k++)
+                stressRows[12*i+k] = stress[k];
     }
 }
