@@ -75,6 +75,12 @@ DEVICE DPDSeparation dpdMinimumImage(double dx, double dy, double dz, double4 bo
     return delta;
 }
 
+/** The cell at offset (dx, dy, dz), each -1, 0 or 1, from cell (cx, cy, cz), periodic. */
+DEVICE int dpdNeighbourCell(int cx, int cy, int cz, int dx, int dy, int dz, int4 numCells) {
+    int nx = (cx+dx+numCells.x)%numCells.x, ny = (cy+dy+numCells.y)%numCells.y, nz = (cz+dz+numCells.z)%numCells.z;
+    return nx+numCells.x*(ny+numCells.y*nz);
+}
+
 /** Each particle's cell, and the number of particles in each cell (cellCount cleared before). */
 KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 boxSize, double4 inverseBoxSize, int4 numCells,
                                GLOBAL int* RESTRICT cellOf, GLOBAL int* RESTRICT cellCount) {

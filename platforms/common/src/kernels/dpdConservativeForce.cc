@@ -26,8 +26,7 @@ KERNEL void dpdConservativeForces(int numAtoms, GLOBAL const real4* RESTRICT pos
         for (int dz = -1; dz <= 1; dz++)
             for (int dy = -1; dy <= 1; dy++)
                 for (int dx = -1; dx <= 1; dx++) {
-                    int nx = (cx+dx+numCells.x)%numCells.x, ny = (cy+dy+numCells.y)%numCells.y, nz = (cz+dz+numCells.z)%numCells.z;
-                    int neighbour = nx+numCells.x*(ny+numCells.y*nz);
+                    int neighbour = dpdNeighbourCell(cx, cy, cz, dx, dy, dz, numCells);
                     for (int slot = cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
                         int j = cellAtoms[slot];
                         if (j == i)

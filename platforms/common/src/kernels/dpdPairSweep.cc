@@ -32,6 +32,39 @@ DEVICE int dpdHalfStencilOffset(int k, int axis) {
     return d-1;
 }
 
+/** What a dissipative pair's update needs of its geometry and friction. */
+typedef struct DPDDissipativePair {
+    double r, w, gamma, invReducedMass, ex, ey, ez;
+} DPDDissipativePair;
+
+/**
+ * Whether particles at pi and pj, of these inverse masses and type pair, are a dissipative pair: closer
+ * than the type pair's cutoff, with friction, not both massless; if so, *pair gets r, w = 1 - r/r_c,
+ * gamma, 1/m_ij and e_ij (the minimum image of q_i - q_j over r).
+ */
+DEVICE int dpdFindDissipativePair(mixed4 pi, mixed4 pj, double invMassI, double invMassJ, int pairType, GLOBAL const double* RESTRICT friction,
+                                  GLOBAL const double* RESTRICT cutoff, double maxCutoff2, double4 boxSize, double4 inverseBoxSize,
+                                  DPDDissipativePair* pair) {
+    DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y, (double) pi.z-(double) pj.z,
+                                          boxSize, inverseBoxSize);
+    double r2 = delta.x*delta.x+delta.y*delta.y+delta.z*delta.z;
+    if (r2 >= maxCutoff2 || r2 == 0.0)
+        return 0;
+    double rc = cutoff[pairType], gamma = friction[pairType];
+    double invReducedMass = invMassI+invMassJ;
+    double r = sqrt(r2);
+    if (r >= rc || gamma == 0.0 || invReducedMass == 0.0)
+        return 0;
+    pair->r = r;
+    pair->w = 1.0-r/rc;
+    pair->gamma = gamma;
+    pair->invReducedMass = invReducedMass;
+    pair->ex = delta.x/r;
+    pair->ey = delta.y/r;
+    pair->ez = delta.z/r;
+    return 1;
+}
+
 KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocksInColour, DPD_POSITIONS, double4 boxSize,
                            double4 inverseBoxSize, GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT cellStart,
                            GLOBAL const int* RESTRICT cellAtoms, GLOBAL const int* RESTRICT atomIndex,
@@ -73,10 +106,8 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                 for (int k = 0; k < 14; k++) {
                     int neighbour = cell, first = slot+1;
                     if (k > 0) {
-                        int nx = (cx+dpdHalfStencilOffset(k-1, 0)+numCells.x)%numCells.x;
-                        int ny = (cy+dpdHalfStencilOffset(k-1, 1)+numCells.y)%numCells.y;
-                        int nz = (cz+dpdHalfStencilOffset(k-1, 2)+numCells.z)%numCells.z;
-                        neighbour = nx+numCells.x*(ny+numCells.y*nz);
+                        neighbour = dpdNeighbourCell(cx, cy, cz, dpdHalfStencilOffset(k-1, 0), dpdHalfStencilOffset(k-1, 1),
+                                                     dpdHalfStencilOffset(k-1, 2), numCells);
                         first = cellStart[neighbour];
                     }
                     segmentFirst[k] = first;
@@ -96,22 +127,14 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                             k++;
                         int j = cellAtoms[segmentFirst[k]+index-segmentStart[k]];
                         partner[c] = -1;
-                        mixed4 pj = DPD_POSITION(j);
-                        DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y,
-                                                              (double) pi.z-(double) pj.z, boxSize, inverseBoxSize);
-                        double r2 = delta.x*delta.x+delta.y*delta.y+delta.z*delta.z;
-                        if (r2 >= maxCutoff2 || r2 == 0.0)
-                            continue;
+                        mixed4 pj = DPD_POSITION(j), vj = velm[j];
                         int originalJ = atomIndex[j];
-                        int pairType = typeI*numTypes+typeOf[originalJ];
-                        double rc = cutoff[pairType], gamma = friction[pairType];
-                        mixed4 vj = velm[j];
-                        double invReducedMass = (double) vi.w+(double) vj.w;
-                        double r = sqrt(r2);
-                        if (r >= rc || gamma == 0.0 || invReducedMass == 0.0)
+                        DPDDissipativePair pair;
+                        if (!dpdFindDissipativePair(pi, pj, vi.w, vj.w, typeI*numTypes+typeOf[originalJ], friction, cutoff, maxCutoff2,
+                                                    boxSize, inverseBoxSize, &pair))
                             continue;
-                        double w = 1.0-r/rc;
-                        double ex = delta.x/r, ey = delta.y/r, ez = delta.z/r;
+                        double gamma = pair.gamma, w = pair.w, invReducedMass = pair.invReducedMass, r = pair.r;
+                        double ex = pair.ex, ey = pair.ey, ez = pair.ez;
                         DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI, originalJ);
                         DPDPairUpdate update;
                         if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
@@ -210,28 +233,20 @@ KERNEL void dpdGatherDissipativeAndRandomForces(int numAtoms, DPD_POSITIONS, dou
         for (int dz = -1; dz <= 1; dz++)
             for (int dy = -1; dy <= 1; dy++)
                 for (int dx = -1; dx <= 1; dx++) {
-                    int nx = (cx+dx+numCells.x)%numCells.x, ny = (cy+dy+numCells.y)%numCells.y, nz = (cz+dz+numCells.z)%numCells.z;
-                    int neighbour = nx+numCells.x*(ny+numCells.y*nz);
+                    int neighbour = dpdNeighbourCell(cx, cy, cz, dx, dy, dz, numCells);
                     for (int slot = cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
                         int j = cellAtoms[slot];
                         if (j == i)
                             continue;
-                        mixed4 pj = DPD_POSITION(j);
-                        DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y,
-                                                              (double) pi.z-(double) pj.z, boxSize, inverseBoxSize);
-                        double r2 = delta.x*delta.x+delta.y*delta.y+delta.z*delta.z;
-                        if (r2 >= maxCutoff2 || r2 == 0.0)
-                            continue;
+                        mixed4 pj = DPD_POSITION(j), vj = velm[j];
                         int originalJ = atomIndex[j];
-                        int pairType = typeI*numTypes+typeOf[originalJ];
-                        double rc = cutoff[pairType], gamma = friction[pairType];
-                        mixed4 vj = velm[j];
-                        double r = sqrt(r2);
-                        if (r >= rc || gamma == 0.0 || (double) vi.w+(double) vj.w == 0.0)
+                        DPDDissipativePair pair;
+                        if (!dpdFindDissipativePair(pi, pj, vi.w, vj.w, typeI*numTypes+typeOf[originalJ], friction, cutoff, maxCutoff2,
+                                                    boxSize, inverseBoxSize, &pair))
                             continue;
-                        double w = 1.0-r/rc;
-                        double ex = delta.x/r, ey = delta.y/r, ez = delta.z/r;
-                        DPDPairUpdate force = dissipativeAndRandomForce(gamma, w, kT, dt, dpdNormal(dpdPairNormalFactors(randomKey, originalI, originalJ)));
+                        double r = pair.r, w = pair.w, gamma = pair.gamma, ex = pair.ex, ey = pair.ey, ez = pair.ez;
+                        double R = dpdNormal(dpdPairNormalFactors(randomKey, originalI, originalJ)); // symmetric in i and j
+                        DPDPairUpdate force = dissipativeAndRandomForce(gamma, w, kT, dt, R);
                         double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
                                    leesEdwardsRelativeVelocity(shearRate, r, ex, ey);
                         double magnitude = dpdMomentumChange(force, u);
