@@ -1,6 +1,9 @@
 """The plugin on OpenMM's OpenCL platform (pocl on the CPU where there is no GPU: small systems, nothing
-timed): a user's script runs unchanged with ``Platform.getPlatformByName("OpenCL")``.  The C++ suite
-(tests/cpp/opencl) holds the statistical and bit-level tests; these check the Python side of it."""
+timed), or on the platform OPENMMDPD_GPU_PLATFORM names (CUDA on a GPU machine): a user's script runs
+unchanged with ``Platform.getPlatformByName("OpenCL")``.  The C++ suite (tests/cpp/opencl) holds the
+statistical and bit-level tests; these check the Python side of it."""
+
+import os
 
 import numpy as np
 import openmm as mm
@@ -14,11 +17,13 @@ from openmmdpd import _plugin
 
 @pytest.fixture(scope="module")
 def opencl() -> mm.Platform:
+    name = os.environ.get("OPENMMDPD_GPU_PLATFORM") or "OpenCL"
     names = [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
-    if "OpenCL" not in names:
-        pytest.skip("OpenMM has no OpenCL platform here (tools/install-dependencies.sh installs pocl)")
-    assert "libOpenMMDPDOpenCL.so" not in _plugin.gpu_plugin_load_failures, _plugin.gpu_plugin_load_failures
-    return mm.Platform.getPlatformByName("OpenCL")
+    if name not in names:
+        pytest.skip(f"OpenMM has no {name} platform here (tools/install-dependencies.sh installs pocl for OpenCL)")
+    library = {"OpenCL": "libOpenMMDPDOpenCL.so", "CUDA": "libOpenMMDPDCUDA.so"}[name]
+    assert library not in _plugin.gpu_plugin_load_failures, _plugin.gpu_plugin_load_failures
+    return mm.Platform.getPlatformByName(name)
 
 
 def test_forces_and_energy_match_reference_in_double(opencl):
