@@ -37,6 +37,7 @@ private:
     OpenMM::ComputeContext& cc;
     std::unique_ptr<DPDSplittingDynamics> dynamics;
     CommonDPDStepBackend* deviceBackend = nullptr; // owned by dynamics
+    bool callBegins = true; // the next step is the first of a step() call
 };
 
 } // namespace OpenMMDPD

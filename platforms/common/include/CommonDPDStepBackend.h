@@ -75,7 +75,9 @@ public:
     double computeKineticEnergy();
     /** Positions, velocities or parameters were set from outside (checked before the next step). */
     void stateChanged(OpenMM::State::DataType changed);
-    /** The first step since the last check at which the device saw a non-finite or runaway state, or 0 (clears it). */
+    /** A step() call begins: its first step is the Context's next. */
+    void beginCall() { firstStepOfCall = cc.getStepCount()+1; }
+    /** The first step of this call at which the device saw a non-finite or runaway state, or 0 (clears the record). */
     long long takeFirstUnsoundStep();
     /** The first particle (System index) whose position or velocity is not finite, or -1. */
     int firstNonFiniteParticle() const;
@@ -86,6 +88,9 @@ private:
     void checkExternalState() const;
     void sweep(int mode, const DPDSweepRequest& request, bool response = false);
     void atomsWereReordered();
+    /** The step being taken, counted from the call's first (1), as the device records it. */
+    int stepOfCall() const;
+    long long firstStepOfCall = 1;
     OpenMM::ContextImpl& context;
     OpenMM::ComputeContext& cc;
     DPDSchemeState& state;

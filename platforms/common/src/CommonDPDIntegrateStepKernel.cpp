@@ -1,5 +1,6 @@
 #include "CommonDPDIntegrateStepKernel.h"
 #include "openmm/OpenMMException.h"
+#include <utility>
 
 using namespace OpenMMDPD;
 
@@ -13,7 +14,15 @@ void CommonDPDIntegrateStepKernel::initialize(OpenMM::ContextImpl& context, cons
 }
 
 void CommonDPDIntegrateStepKernel::execute(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, bool moreStepsFollow) {
-    dynamics->step(integrator, moreStepsFollow);
+    if (std::exchange(callBegins, !moreStepsFollow))
+        deviceBackend->beginCall();
+    try {
+        dynamics->step(integrator, moreStepsFollow);
+    }
+    catch (...) {
+        callBegins = true; // the call ends here
+        throw;
+    }
     if (moreStepsFollow)
         return;
     long long unsoundStep = deviceBackend->takeFirstUnsoundStep(); // one small read per step() call

@@ -11,6 +11,7 @@
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 using namespace OpenMMDPD;
@@ -185,13 +186,21 @@ int CommonDPDStepBackend::firstNonFiniteParticle() const {
     return -1;
 }
 
+int CommonDPDStepBackend::stepOfCall() const {
+    // The device records steps counted from the call's first, 1 for it (0: none), so that the record
+    // stays a small int however long the simulation has run.
+    long long step = cc.getStepCount()+1-firstStepOfCall+1;
+    return static_cast<int>(std::min<long long>(step, std::numeric_limits<int>::max()));
+}
+
 long long CommonDPDStepBackend::takeFirstUnsoundStep() {
     OpenMM::ContextSelector selector(cc);
     int step;
     flags.download(&step);
-    if (step != 0)
-        cc.clearBuffer(flags);
-    return step;
+    if (step == 0)
+        return 0;
+    cc.clearBuffer(flags);
+    return firstStepOfCall+step-1;
 }
 
 void CommonDPDStepBackend::endStep(double stepSize, double stressScale) {
@@ -265,7 +274,7 @@ int CommonDPDStepBackend::drift(double dt, int times, double kickDt, bool* veloc
     OpenMM::ContextSelector selector(cc);
     int numAtoms = cc.getNumAtoms();
     int kickFrom = kickDt == 0.0 ? 0 : (latestForcesStored ? 2 : 1);
-    int step = static_cast<int>(cc.getStepCount()+1);
+    int step = stepOfCall();
     double maxDisplacement2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
     if (cc.getUseMixedPrecision())
         driftKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), cc.getVelm(), cc.getLongForceBuffer(), storedForces,
@@ -281,7 +290,7 @@ int CommonDPDStepBackend::drift(double dt, int times, double kickDt, bool* veloc
 bool CommonDPDStepBackend::kick(double dt, bool keepForces) {
     OpenMM::ContextSelector selector(cc);
     int numAtoms = cc.getNumAtoms();
-    int step = static_cast<int>(cc.getStepCount()+1);
+    int step = stepOfCall();
     kickKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getLongForceBuffer(), storedForces, cc.getAtomIndexArray(), dt,
                    latestForcesStored ? 1 : 0, keepForces ? 1 : 0, step, flags);
     if (keepForces) {
