@@ -6,7 +6,8 @@ DPDIntegrator(...))``, ``openmm.app.Simulation`` and ``openmm.XmlSerializer`` ac
 OpenMM hands back typed as its base class (``XmlSerializer.deserialize``, ``System.getForce``) is
 a plain ``openmm.Force`` or ``openmm.Integrator``; ``DPDForce.cast(force)`` and
 ``DPDIntegrator.cast(integrator)`` make it ours again, with our methods.
-Importing the package loads the plugin's Reference and CPU kernels into OpenMM.
+Importing the package loads the plugin's Reference and CPU kernels into OpenMM, and its OpenCL and CUDA
+kernels where those plugins were built and load.
 
 ``python -m openmmdpd --cmake-dir`` (``--include-dir``, ``--plugin-dir``, ``--openmm-dir``,
 ``--openmm-plugin-dir``) prints where the installed package keeps what a C++ program needs.
