@@ -3,8 +3,7 @@
 
 #include "DPDHostStepBackend.h"
 #include "DPDPairEngine.h"
-#include "DPDSplittingDynamics.h"
-#include "openmmdpd/IntegrateDPDStepKernel.h"
+#include "DPDSplittingStepKernel.h"
 #include <memory>
 
 namespace OpenMMDPD {
@@ -13,10 +12,10 @@ namespace OpenMMDPD {
  * DPDIntegrator steps on the host platforms, Reference and CPU: the schemes (DPDSplittingDynamics) on
  * the host backend (DPDHostStepBackend), with the platform's pair engines.
  */
-class DPDHostIntegrateStepKernel : public IntegrateDPDStepKernel {
+class DPDHostIntegrateStepKernel : public DPDSplittingStepKernel {
 public:
     DPDHostIntegrateStepKernel(const std::string& name, const OpenMM::Platform& platform, DPDPairEngineFactory makeEngine)
-        : IntegrateDPDStepKernel(name, platform), makeEngine(std::move(makeEngine)) {}
+        : DPDSplittingStepKernel(name, platform), makeEngine(std::move(makeEngine)) {}
     void initialize(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) override {
         dynamics = std::make_unique<DPDSplittingDynamics>(integrator, [&](DPDSchemeState& state) {
             auto backend = std::make_unique<DPDHostStepBackend>(context, integrator, state, makeEngine);
@@ -31,17 +30,9 @@ public:
         return hostBackend->computeKineticEnergy();
     }
     void stateChanged(OpenMM::State::DataType changed) override { hostBackend->stateChanged(changed); }
-    void createCheckpoint(std::ostream& stream) const override { dynamics->createCheckpoint(stream); }
-    void loadCheckpoint(std::istream& stream) override { dynamics->loadCheckpoint(stream); }
-    DPDIntegrator::TransportStatistics getTransportStatistics() const override { return dynamics->getTransportStatistics(); }
-    void resetTransportStatistics() override { dynamics->resetTransportStatistics(); }
-    void setRandomNumberSeed(int seed) override { dynamics->setRandomNumberSeed(seed); }
-    DPDIntegrator::StressStatistics getStressStatistics() const override { return dynamics->getStressStatistics(); }
-    void resetStressStatistics() override { dynamics->resetStressStatistics(); }
 
 private:
     DPDPairEngineFactory makeEngine;
-    std::unique_ptr<DPDSplittingDynamics> dynamics;
     DPDHostStepBackend* hostBackend = nullptr; // owned by dynamics
 };
 
