@@ -264,11 +264,13 @@ bool DPDBondedTerms::hasAnalyticForces(const OpenMM::Force& force) {
     return dynamic_cast<const OpenMM::HarmonicBondForce*>(&force) != nullptr || dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force) != nullptr;
 }
 
-DPDBondedTerms::DPDBondedTerms(OpenMM::ContextImpl& context, int groups, bool (*include)(const OpenMM::Force&)) {
+DPDBondedTerms::DPDBondedTerms(OpenMM::ContextImpl& context, int groups, bool (*include)(const OpenMM::Force&),
+                               const std::vector<char>* leftOutForces) {
     const OpenMM::System& system = context.getSystem();
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& owner = system.getForce(k);
-        if ((groups & (1 << owner.getForceGroup())) == 0 || (include != nullptr && !include(owner)))
+        if ((groups & (1 << owner.getForceGroup())) == 0 || (include != nullptr && !include(owner)) ||
+            (leftOutForces != nullptr && (*leftOutForces)[k]))
             continue;
         bool periodic = owner.usesPeriodicBoundaryConditions();
         std::unique_ptr<Force> terms;

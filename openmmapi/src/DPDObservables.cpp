@@ -1,6 +1,7 @@
 #include "openmmdpd/DPDObservables.h"
 #include "openmmdpd/internal/DPDBondedTerms.h"
 #include "openmmdpd/internal/DPDContextAccess.h"
+#include "openmmdpd/internal/DPDFiniteDifferenceEstimator.h"
 #include "openmmdpd/internal/DPDPairPotentialTerms.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/OpenMMException.h"
@@ -22,7 +23,6 @@ namespace {
 void forEachPairWithin(const OpenMM::State& state, double maxDistance, const std::function<void(int, int, double)>& visit) {
     Vec3 box[3];
     state.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    DPDPeriodicBox::checkCutoff("DPDObservables", maxDistance, box);
     const std::vector<Vec3>& positions = state.getPositions();
     // A non-finite position has no distance to anything: the neighbour search would drop it silently.
     for (std::size_t i = 0; i < positions.size(); i++)
@@ -32,8 +32,9 @@ void forEachPairWithin(const OpenMM::State& state, double maxDistance, const std
                     << ", " << positions[i][2] << "); pair observables need every position finite";
             throw OpenMM::OpenMMException(message.str());
         }
-    if (maxDistance == 0.0) // no pair potential (bonded forces alone)
+    if (maxDistance == 0.0) // no pair potential (bonded or estimated forces alone)
         return;
+    DPDPeriodicBox::checkCutoff("DPDObservables", maxDistance, box);
     OpenMM::NeighborList neighbors;
     std::vector<std::set<int> > noExclusions(positions.size());
     OpenMM::computeNeighborListVoxelHash(neighbors, positions.size(), positions, noExclusions, box, true, maxDistance);
@@ -63,27 +64,46 @@ int dynamicsForceGroups(OpenMM::Context& context) {
     return context.getIntegrator().getIntegrationForceGroups();
 }
 
+/** What the observables measure of a Context: the exact terms, and the general estimator for the other forces. */
+struct MeasuredPotential {
+    MeasuredPotential(OpenMM::Context& context, const DPDObservables::EstimatorOptions& options)
+        : groups(dynamicsForceGroups(context)), estimator(DPDContextAccess::implOf(context), groups, options),
+          pairs(DPDContextAccess::implOf(context), groups, nullptr, &estimator.estimatedForces()),
+          bonded(DPDContextAccess::implOf(context), groups, nullptr, &estimator.estimatedForces()) {}
+    int groups;
+    DPDFiniteDifferenceEstimator estimator;
+    DPDPairPotentialTerms pairs;
+    DPDBondedTerms bonded;
+};
+
 } // namespace
 
 void DPDObservables::checkPotentialIsUnderstood(OpenMM::Context& context) {
-    DPDPairPotentialTerms potential(DPDContextAccess::implOf(context), dynamicsForceGroups(context));
-    DPDBondedTerms bonded(DPDContextAccess::implOf(context), dynamicsForceGroups(context));
+    MeasuredPotential potential(context, EstimatorOptions());
 }
 
 DPDObservables::ConfigurationalSums DPDObservables::configurationalSums(OpenMM::Context& context) {
-    int groups = dynamicsForceGroups(context);
-    DPDPairPotentialTerms potential(DPDContextAccess::implOf(context), groups);
-    DPDBondedTerms bonded(DPDContextAccess::implOf(context), groups);
-    OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Forces, false, groups);
-    ConfigurationalSums sums{0.0, 0.0};
+    return configurationalSums(context, EstimatorOptions());
+}
+
+DPDObservables::ConfigurationalSums DPDObservables::configurationalSums(OpenMM::Context& context, const EstimatorOptions& options) {
+    MeasuredPotential potential(context, options);
+    OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Forces, false, potential.groups);
+    ConfigurationalSums sums{0.0, 0.0, 0.0};
     for (const Vec3& force : state.getForces())
         sums.gradientSquared += force.dot(force);
-    forEachPairWithin(state, potential.getMaxCutoff(), [&](int i, int j, double r) {
+    forEachPairWithin(state, potential.pairs.getMaxCutoff(), [&](int i, int j, double r) {
         double first = 0.0, second = 0.0;
-        potential.addDerivatives(i, j, r, first, second);
+        potential.pairs.addDerivatives(i, j, r, first, second);
         sums.laplacian += 2.0*(second + 2.0*first/r); // lap_i u + lap_j u, u'' + (d-1) u'/r in d = 3
     });
-    sums.laplacian += bondedSums(bonded, state).laplacian;
+    sums.laplacian += bondedSums(potential.bonded, state).laplacian;
+    Vec3 box[3];
+    state.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    DPDFiniteDifferenceEstimator::Estimate estimated =
+        potential.estimator.laplacian(DPDContextAccess::implOf(context), state.getPositions(), box, context.getStepCount());
+    sums.laplacian += estimated.value;
+    sums.laplacianStandardError = estimated.standardError;
     return sums;
 }
 
@@ -118,17 +138,25 @@ double DPDObservables::kineticTemperature(OpenMM::Context& context) {
 }
 
 double DPDObservables::virialPressure(OpenMM::Context& context) {
-    DPDPairPotentialTerms potential(DPDContextAccess::implOf(context), dynamicsForceGroups(context));
-    DPDBondedTerms bonded(DPDContextAccess::implOf(context), dynamicsForceGroups(context));
+    return virialPressureEstimate(context, EstimatorOptions()).pressure;
+}
+
+DPDObservables::PressureEstimate DPDObservables::virialPressureEstimate(OpenMM::Context& context, const EstimatorOptions& options) {
+    MeasuredPotential potential(context, options);
     OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Energy);
     double virial = 0.0; // sum over pairs of r . F_ij = -r u'(r)
-    forEachPairWithin(state, potential.getMaxCutoff(), [&](int i, int j, double r) {
+    forEachPairWithin(state, potential.pairs.getMaxCutoff(), [&](int i, int j, double r) {
         double first = 0.0, second = 0.0;
-        potential.addDerivatives(i, j, r, first, second);
+        potential.pairs.addDerivatives(i, j, r, first, second);
         virial -= r*first;
     });
-    virial += bondedSums(bonded, state).virial; // sum_i q_i . F_i of the bonded terms
-    return (2.0*state.getKineticEnergy() + virial)/(3.0*volume(state));
+    virial += bondedSums(potential.bonded, state).virial; // sum_i q_i . F_i of the bonded terms
+    Vec3 box[3];
+    state.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    DPDFiniteDifferenceEstimator::Estimate estimated = potential.estimator.virial(DPDContextAccess::implOf(context), state.getPositions(), box);
+    virial += estimated.value;
+    double threeVolumes = 3.0*volume(state);
+    return {(2.0*state.getKineticEnergy() + virial)/threeVolumes, estimated.standardError/threeVolumes};
 }
 
 std::vector<double> DPDObservables::pairDistanceHistogram(OpenMM::Context& context, double maxDistance, int numBins) {

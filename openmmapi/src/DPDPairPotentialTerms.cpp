@@ -21,6 +21,23 @@
 
 using namespace OpenMMDPD;
 
+namespace {
+
+/** The feature of a CustomNonbondedForce the exact pair terms cannot differentiate, or nullptr. */
+const char* unsupportedCustomFeature(const OpenMM::CustomNonbondedForce& force) {
+    if (force.getUseLongRangeCorrection())
+        return "a long-range correction (setUseLongRangeCorrection(False) to measure without it)";
+    if (force.getNumTabulatedFunctions() > 0)
+        return "tabulated functions";
+    if (force.getNonbondedMethod() == OpenMM::CustomNonbondedForce::NoCutoff)
+        return "no cutoff (the observables need CutoffPeriodic)";
+    if (force.getNonbondedMethod() == OpenMM::CustomNonbondedForce::CutoffNonPeriodic)
+        return "a non-periodic cutoff (the observables measure in the periodic box: use CutoffPeriodic)";
+    return nullptr;
+}
+
+} // namespace
+
 struct DPDPairPotentialTerms::Term {
     virtual ~Term() = default;
     virtual double cutoff() const = 0;
@@ -159,16 +176,7 @@ public:
 
 private:
     static const OpenMM::CustomNonbondedForce& checked(const OpenMM::CustomNonbondedForce& force, int forceIndex) {
-        const char* feature = nullptr;
-        if (force.getUseLongRangeCorrection())
-            feature = "a long-range correction (setUseLongRangeCorrection(False) to measure without it)";
-        else if (force.getNumTabulatedFunctions() > 0)
-            feature = "tabulated functions";
-        else if (force.getNonbondedMethod() == OpenMM::CustomNonbondedForce::NoCutoff)
-            feature = "no cutoff (the observables need CutoffPeriodic)";
-        else if (force.getNonbondedMethod() == OpenMM::CustomNonbondedForce::CutoffNonPeriodic)
-            feature = "a non-periodic cutoff (the observables measure in the periodic box: use CutoffPeriodic)";
-        if (feature != nullptr) {
+        if (const char* feature = unsupportedCustomFeature(force)) {
             std::stringstream message;
             message << "DPDObservables: force " << forceIndex << " (" << force.getName() << ", a CustomNonbondedForce) uses "
                     << feature << ", which the configurational temperature, virial pressure and stress do not support";
@@ -213,13 +221,22 @@ bool DPDPairPotentialTerms::hasNoPotential(const OpenMM::Force& force) {
            dynamic_cast<const OpenMM::MonteCarloFlexibleBarostat*>(&force) != nullptr;
 }
 
-DPDPairPotentialTerms::DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups, const OpenMM::ForceImpl* leftOut) {
+bool DPDPairPotentialTerms::hasExactTerms(const OpenMM::Force& force, const OpenMM::ForceImpl* impl) {
+    if (hasNoPotential(force) || DPDBondedTerms::understands(force) || dynamic_cast<const DPDForceImpl*>(impl) != nullptr)
+        return true;
+    auto* custom = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force);
+    return custom != nullptr && unsupportedCustomFeature(*custom) == nullptr;
+}
+
+DPDPairPotentialTerms::DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups, const OpenMM::ForceImpl* leftOut,
+                                             const std::vector<char>* leftOutForces) {
     leftOutAForce = leftOut != nullptr;
     const std::vector<OpenMM::ForceImpl*>& impls = context.getForceImpls();
     const OpenMM::System& system = context.getSystem();
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& force = system.getForce(k);
-        if ((groups & (1 << force.getForceGroup())) == 0 || hasNoPotential(force) || DPDBondedTerms::understands(force) || impls[k] == leftOut)
+        if ((groups & (1 << force.getForceGroup())) == 0 || hasNoPotential(force) || DPDBondedTerms::understands(force) || impls[k] == leftOut ||
+            (leftOutForces != nullptr && (*leftOutForces)[k]))
             continue; // bonded forces are DPDBondedTerms' own
         // The Context's force implementations are in the System's order, one a force.
         if (auto* dpd = dynamic_cast<const DPDForceImpl*>(impls[k]))

@@ -21,12 +21,16 @@ from ._dpd_force import DPDForce  # noqa: E402
 from ._dpd_integrator import SCHEMES, DPDIntegrator, TransportStatistics  # noqa: E402
 from ._openmmdpd import ColourDrift, ShearProfile, TwoDrifts  # noqa: E402
 from ._observables import (  # noqa: E402
+    ConfigurationalSumsEstimate,
+    PressureEstimate,
     configurational_sums,
+    configurational_sums_estimate,
     configurational_temperature,
     kinetic_temperature,
     pair_distance_histogram,
     radial_distribution,
     virial_pressure,
+    virial_pressure_estimate,
 )
 from ._scenes import REDUCED_TEMPERATURE, lj_fluid, soft_fluid  # noqa: E402
 from ._dpd_reporter import DPDReporter  # noqa: E402
@@ -46,10 +50,14 @@ __all__ = [
     "soft_fluid",
     "lj_fluid",
     "configurational_sums",
+    "configurational_sums_estimate",
+    "ConfigurationalSumsEstimate",
     "configurational_temperature",
     "kinetic_temperature",
     "set_velocities_to_temperature",
     "virial_pressure",
+    "virial_pressure_estimate",
+    "PressureEstimate",
     "pair_distance_histogram",
     "radial_distribution",
     "StressStatistics",

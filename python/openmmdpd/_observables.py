@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Tuple
+from typing import NamedTuple, Tuple
 
 import numpy as np
 
@@ -13,13 +13,38 @@ from . import _openmmdpd
 
 def configurational_sums(context: openmm.Context) -> Tuple[float, float]:
     """``(sum_i |grad_i U|^2, sum_i lap_i U)`` of Shang 2021 eq. 3.1 at the Context's positions, in
-    (kJ/mol/nm)^2 and kJ/mol/nm^2, with the analytic Laplacian of the potential; average each over a
-    run and divide: ``k_B T_conf = <first> / <second>`` (kJ/mol).  The potential must be a DPDForce or
-    an isotropic, periodic CustomNonbondedForce (exclusions, interaction groups, a switching function
-    and computed values are understood; a long-range correction or tabulated functions are refused,
-    naming the force).  Only the force groups the Context's integrator integrates count, with the
-    parameters the Context computes with (``updateParametersInContext``, ``Context.setParameter``)."""
+    (kJ/mol/nm)^2 and kJ/mol/nm^2; average each over a run and divide: ``k_B T_conf = <first> /
+    <second>`` (kJ/mol).  The Laplacian is analytic for a DPDForce, an isotropic, periodic
+    CustomNonbondedForce (exclusions, interaction groups, a switching function and computed values are
+    understood) and the bonded forces (harmonic and custom bonds, angles, torsions, RB torsions); any
+    other force with a potential (PME, a long-range correction, tabulated functions, external or
+    compound-bond forces, ...) goes to the general estimator (:func:`configurational_sums_estimate`,
+    with its default options and its error bar).  Only the force groups the Context's integrator
+    integrates count, with the parameters the Context computes with (``updateParametersInContext``,
+    ``Context.setParameter``)."""
     return _openmmdpd.configurational_sums(context)
+
+
+class ConfigurationalSumsEstimate(NamedTuple):
+    """The sums of eq. 3.1 and the standard error of the Laplacian's estimated part (0 if all is exact)."""
+
+    gradient_squared: float  # (kJ/mol/nm)^2
+    laplacian: float  # kJ/mol/nm^2
+    laplacian_error: float  # kJ/mol/nm^2
+
+
+def configurational_sums_estimate(context: openmm.Context, probes: int = 16, displacement: float = 1e-4, seed: int = 0,
+                                  estimate_every_force: bool = False) -> ConfigurationalSumsEstimate:
+    """:func:`configurational_sums` with the general estimator's options and error bar.  For the forces
+    whose derivatives are not known the Laplacian is Hutchinson's stochastic trace ``E[v^T H v]`` over
+    ``probes`` (2 to 100000) vectors of independent +-1 entries, each ``v^T H v`` by central differences
+    of those forces at ``q +- displacement v`` (nm, 1e-8 to 1e-2); its standard error is the probes'
+    scatter over ``sqrt(probes)``.  The probes are seeded by ``seed`` and the Context's step count.  The
+    forces are evaluated in a private Context (CPU platform), never in this one: measuring does not change
+    the trajectory.  ``estimate_every_force`` estimates the forces the exact paths know too (to check one
+    against the other)."""
+    return ConfigurationalSumsEstimate(*_openmmdpd.configurational_sums_estimate(context, probes, displacement, seed,
+                                                                                 estimate_every_force))
 
 
 def configurational_temperature(context: openmm.Context) -> float:
@@ -33,8 +58,25 @@ def kinetic_temperature(context: openmm.Context) -> float:
 
 
 def virial_pressure(context: openmm.Context) -> float:
-    """The virial pressure in kJ/mol/nm^3 (DPD's reduced pressure when kT = 1 kJ/mol and r_c = 1 nm)."""
+    """The virial pressure in kJ/mol/nm^3 (DPD's reduced pressure when kT = 1 kJ/mol and r_c = 1 nm);
+    the virial of forces whose derivatives are not known comes from :func:`virial_pressure_estimate`."""
     return _openmmdpd.virial_pressure(context)
+
+
+class PressureEstimate(NamedTuple):
+    """A virial pressure and the error of its estimated part (kJ/mol/nm^3; 0 if all is exact)."""
+
+    pressure: float
+    error: float
+
+
+def virial_pressure_estimate(context: openmm.Context, dilation: float = 1e-5,
+                             estimate_every_force: bool = False) -> PressureEstimate:
+    """:func:`virial_pressure` with the general estimator's option and error: the virial ``sum_i q_i .
+    F_i`` of the forces whose derivatives are not known is ``-dU/dlambda`` for the dilation ``q -> (1 +
+    lambda) q`` of the positions and the box together, by a central difference at ``lambda = dilation``
+    (1e-8 to 1e-2); the error is ``|D(lambda) - D(2 lambda)| / 3`` (the difference's own truncation)."""
+    return PressureEstimate(*_openmmdpd.virial_pressure_estimate(context, dilation, estimate_every_force))
 
 
 def pair_distance_histogram(context: openmm.Context, max_distance: float, bins: int) -> np.ndarray:

@@ -167,6 +167,27 @@ NB_MODULE(_openmmdpd, m) {
         DPDObservables::ConfigurationalSums sums = DPDObservables::configurationalSums(contextOf(context));
         return std::make_tuple(sums.gradientSquared, sums.laplacian);
     });
+    // The general estimator's options (DPDObservables::EstimatorOptions), checked in C++.
+    auto estimatorOptions = [](int probes, double displacement, double dilation, int seed, bool estimateEveryForce) {
+        DPDObservables::EstimatorOptions options;
+        options.probes = probes;
+        options.displacement = displacement;
+        options.dilation = dilation;
+        options.seed = seed;
+        options.estimateEveryForce = estimateEveryForce;
+        return options;
+    };
+    m.def("configurational_sums_estimate", [estimatorOptions](nb::handle context, int probes, double displacement, int seed, bool estimateEveryForce) {
+        DPDObservables::ConfigurationalSums sums = DPDObservables::configurationalSums(
+            contextOf(context), estimatorOptions(probes, displacement, DPDObservables::EstimatorOptions().dilation, seed, estimateEveryForce));
+        return std::make_tuple(sums.gradientSquared, sums.laplacian, sums.laplacianStandardError);
+    });
+    m.def("virial_pressure_estimate", [estimatorOptions](nb::handle context, double dilation, bool estimateEveryForce) {
+        DPDObservables::EstimatorOptions defaults;
+        DPDObservables::PressureEstimate estimate = DPDObservables::virialPressureEstimate(
+            contextOf(context), estimatorOptions(defaults.probes, defaults.displacement, dilation, defaults.seed, estimateEveryForce));
+        return std::make_tuple(estimate.pressure, estimate.standardError);
+    });
     m.def("configurational_temperature", [](nb::handle context) { return DPDObservables::configurationalTemperature(contextOf(context)); });
     m.def("virial_pressure", [](nb::handle context) { return DPDObservables::virialPressure(contextOf(context)); });
     m.def("check_potential_is_understood", [](nb::handle context) { DPDObservables::checkPotentialIsUnderstood(contextOf(context)); });

@@ -71,17 +71,6 @@ TEST(DPDObservables, KineticTemperatureCountsMovingParticlesMinusMomentum) {
     EXPECT_NEAR(DPDObservables::kineticTemperature(context), expected, 1e-12*expected);
 }
 
-TEST(DPDObservables, ConfigurationalTemperatureRefusesForcesItCannotDifferentiate) {
-    // Pair potentials and bonded forces have known Laplacians (DPDBondedTerms); charges with a
-    // reciprocal-space sum do not: refused, by name.
-    SoftFluid fluid = makeSoftFluid(100, 3.0, 23);
-    addAlternatingCharges(*fluid.system, NonbondedForce::Ewald, 0.2);
-    VerletIntegrator integrator(0.001);
-    Context context(*fluid.system, integrator, platform("Reference"));
-    context.setPositions(fluid.positions);
-    EXPECT_TRUE(throwsMentioning([&] { DPDObservables::configurationalSums(context); }, {"force 1 (NonbondedForce)"}));
-}
-
 TEST(DPDObservables, CustomNonbondedCopyOfTheSoftForceGivesTheSameObservables) {
     // The Lepton-differentiated Laplacian and virial of "0.5*a*rc*(1-r/rc)^2" must equal the analytic
     // ones of the DPDForce (eq. 1.3) at the same configuration, to round-off.

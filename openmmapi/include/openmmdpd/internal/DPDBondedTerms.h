@@ -33,8 +33,12 @@ public:
      * enough for every step); the others' forces are OpenMM's to compute.
      */
     static bool hasAnalyticForces(const OpenMM::Force& force);
-    /** The terms of the understood forces in the force groups `groups` (bit k for group k), those `include` accepts if given. */
-    DPDBondedTerms(OpenMM::ContextImpl& context, int groups, bool (*include)(const OpenMM::Force&) = nullptr);
+    /**
+     * The terms of the understood forces in the force groups `groups` (bit k for group k), those `include`
+     * accepts if given, but for the forces k with (*leftOutForces)[k] set.
+     */
+    DPDBondedTerms(OpenMM::ContextImpl& context, int groups, bool (*include)(const OpenMM::Force&) = nullptr,
+                   const std::vector<char>* leftOutForces = nullptr);
     ~DPDBondedTerms();
     /** Read again the global parameter values of custom expressions from the Context. */
     void refresh(OpenMM::ContextImpl& context);

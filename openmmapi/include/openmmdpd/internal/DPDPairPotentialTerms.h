@@ -26,8 +26,12 @@ namespace OpenMMDPD {
  */
 class DPDPairPotentialTerms {
 public:
-    /** The terms of the forces in the force groups `groups` (bit k for group k), but for `leftOut`'s force, if any. */
-    DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups, const OpenMM::ForceImpl* leftOut = nullptr);
+    /**
+     * The terms of the forces in the force groups `groups` (bit k for group k), but for `leftOut`'s force, if
+     * any, and for the forces k with (*leftOutForces)[k] set (those DPDFiniteDifferenceEstimator measures).
+     */
+    DPDPairPotentialTerms(OpenMM::ContextImpl& context, int groups, const OpenMM::ForceImpl* leftOut = nullptr,
+                          const std::vector<char>* leftOutForces = nullptr);
     ~DPDPairPotentialTerms();
     /** Read again what may have changed in the Context since construction (parameters, global values). */
     void refresh(OpenMM::ContextImpl& context);
@@ -43,6 +47,11 @@ public:
         addTerms(i, j, r, energy, firstDerivative, secondDerivative);
     }
 
+    /**
+     * Whether the exact paths (these terms, DPDBondedTerms) measure this force (`impl` its ContextImpl's
+     * implementation), or it has no potential; the other forces are DPDFiniteDifferenceEstimator's.
+     */
+    static bool hasExactTerms(const OpenMM::Force& force, const OpenMM::ForceImpl* impl);
     /** Whether a force adds no potential energy (CMMotionRemover, AndersenThermostat, barostats). */
     static bool hasNoPotential(const OpenMM::Force& force);
 
