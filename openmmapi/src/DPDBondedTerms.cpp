@@ -5,8 +5,10 @@
 #include "openmm/CustomTorsionForce.h"
 #include "openmm/HarmonicAngleForce.h"
 #include "openmm/HarmonicBondForce.h"
+#include "openmm/OpenMMException.h"
 #include "openmm/PeriodicTorsionForce.h"
 #include "openmm/RBTorsionForce.h"
+#include "openmmdpd/internal/DPDExpressionProgram.h"
 #include "lepton/ParsedExpression.h"
 #include "lepton/Parser.h"
 #include <algorithm>
@@ -25,6 +27,12 @@ struct DPDBondedTerms::Force {
     virtual ~Force() = default;
     virtual void refresh(OpenMM::ContextImpl&) {}
     virtual void energy(int term, double x, double& u, double& du, double& d2u) const = 0;
+    /** du/dx alone (what a force needs). */
+    virtual double firstDerivative(int term, double x) const {
+        double u, du, d2u;
+        energy(term, x, u, du, d2u);
+        return du;
+    }
     const Coordinate coordinate;
     const bool periodic;
     std::vector<std::array<int, 4> > particles; // of each term (the first 2, 3 or 4 used)
@@ -82,40 +90,67 @@ public:
     std::vector<std::array<double, 6> > coefficients;
 };
 
-/** A custom expression in one coordinate (r or theta), with per-term parameters and the Context's global values. */
+/**
+ * A custom expression in one coordinate (r, theta or phi), with per-term parameters and the Context's
+ * global values: u, u' and u'' as DPDExpressionPrograms over the variables (coordinate, per-term
+ * parameters, global parameters), so that a step can evaluate custom bonds itself.
+ */
 class CustomTerms : public DPDBondedTerms::Force {
 public:
     template <class CustomForce>
     CustomTerms(Coordinate coordinate, const CustomForce& force, const char* variable, std::vector<std::string> termParameterNames)
-        : Force(coordinate, force.usesPeriodicBoundaryConditions()), termParameterNames(std::move(termParameterNames)) {
-        Lepton::ParsedExpression expression = Lepton::Parser::parse(force.getEnergyFunction());
-        for (int order = 0; order < 3; order++) {
-            expressions[order] = expression.optimize();
-            expression = expression.differentiate(variable);
-        }
-        this->variable = variable;
+        : Force(coordinate, force.usesPeriodicBoundaryConditions()), numTermParameters(static_cast<int>(termParameterNames.size())) {
         for (int k = 0; k < force.getNumGlobalParameters(); k++)
             globalNames.push_back(force.getGlobalParameterName(k));
+        std::vector<std::string> variables = {variable};
+        variables.insert(variables.end(), termParameterNames.begin(), termParameterNames.end());
+        variables.insert(variables.end(), globalNames.begin(), globalNames.end());
+        Lepton::ParsedExpression expression = Lepton::Parser::parse(force.getEnergyFunction());
+        for (int order = 0; order < 3; order++) {
+            programs[order] = DPDExpressionProgram(expression.optimize(), variables);
+            expression = expression.differentiate(variable);
+        }
+        globalValues.resize(globalNames.size());
     }
     void refresh(OpenMM::ContextImpl& context) override {
-        for (const std::string& name : globalNames)
-            variables[name] = context.getParameter(name);
+        for (std::size_t k = 0; k < globalNames.size(); k++)
+            globalValues[k] = context.getParameter(globalNames[k]);
     }
     void energy(int term, double x, double& u, double& du, double& d2u) const override {
-        variables[variable] = x;
-        for (std::size_t k = 0; k < termParameterNames.size(); k++)
-            variables[termParameterNames[k]] = termParameters[term][k];
-        u = expressions[0].evaluate(variables);
-        du = expressions[1].evaluate(variables);
-        d2u = expressions[2].evaluate(variables);
+        withVariables(term, x, [&](const double* values) {
+            u = programs[0].evaluate(values);
+            du = programs[1].evaluate(values);
+            d2u = programs[2].evaluate(values);
+        });
+    }
+    double firstDerivative(int term, double x) const override {
+        double du = 0.0;
+        withVariables(term, x, [&](const double* values) { du = programs[1].evaluate(values); });
+        return du;
     }
     std::vector<std::vector<double> > termParameters;
 
 private:
-    Lepton::ParsedExpression expressions[3];
-    std::string variable;
-    std::vector<std::string> globalNames, termParameterNames;
-    mutable std::map<std::string, double> variables;
+    /** visit(values) with the variables of term `term` at coordinate x, kept on the caller's frame (threads may share the terms). */
+    template <class Visit>
+    void withVariables(int term, double x, Visit visit) const {
+        const std::size_t count = 1+numTermParameters+globalValues.size();
+        double onTheFrame[32];
+        std::vector<double> onTheHeap;
+        double* values = onTheFrame;
+        if (count > 32) {
+            onTheHeap.resize(count);
+            values = onTheHeap.data();
+        }
+        values[0] = x;
+        std::copy(termParameters[term].begin(), termParameters[term].end(), values+1);
+        std::copy(globalValues.begin(), globalValues.end(), values+1+numTermParameters);
+        visit(values);
+    }
+    DPDExpressionProgram programs[3]; // u, du/dx, d2u/dx2
+    int numTermParameters;
+    std::vector<std::string> globalNames;
+    std::vector<double> globalValues;
 };
 
 /** The dihedral angle of four points, with OpenMM's sign (its reference torsion kernels). */
@@ -191,25 +226,29 @@ void addAngleTerm(const DPDBondedTerms::Force& force, int term, const Vec3& a, c
  * 1: local[0] = q_0 - q_1, local[1] = 0, local[2] = q_2 - q_1, local[3] = local[2] + q_3 - q_2, each side
  * by its minimum image when the force is periodic (the entries a term does not have are not read).
  */
+/** Term t's relative positions (see forEachTerm) into local. */
+void termGeometry(const DPDBondedTerms::Force& force, std::size_t t, const std::vector<Vec3>& positions, const Vec3* box, Vec3* local) {
+    auto side = [&](int from, int to) {
+        Vec3 delta = positions[to]-positions[from];
+        return force.periodic ? DPDPeriodicBox::minimumImage(delta, box) : delta;
+    };
+    const std::array<int, 4>& p = force.particles[t];
+    local[0] = side(p[1], p[0]);
+    if (force.coordinate != DPDBondedTerms::Force::Distance)
+        local[2] = side(p[1], p[2]);
+    if (force.coordinate == DPDBondedTerms::Force::Dihedral)
+        local[3] = local[2]+side(p[2], p[3]);
+}
+
 template <class Visit>
 void forEachTerm(const std::vector<std::unique_ptr<DPDBondedTerms::Force> >& forces, const std::vector<Vec3>& positions,
                  const Vec3* box, Visit visit) {
-    for (const auto& force : forces) {
-        auto side = [&](int from, int to) {
-            Vec3 delta = positions[to]-positions[from];
-            return force->periodic ? DPDPeriodicBox::minimumImage(delta, box) : delta;
-        };
+    for (const auto& force : forces)
         for (std::size_t t = 0; t < force->particles.size(); t++) {
-            const std::array<int, 4>& p = force->particles[t];
             Vec3 local[4];
-            local[0] = side(p[1], p[0]);
-            if (force->coordinate != DPDBondedTerms::Force::Distance)
-                local[2] = side(p[1], p[2]);
-            if (force->coordinate == DPDBondedTerms::Force::Dihedral)
-                local[3] = local[2]+side(p[2], p[3]);
+            termGeometry(*force, t, positions, box, local);
             visit(*force, static_cast<int>(t), local);
         }
-    }
 }
 
 /** The terms of a custom bonded force: readTerm(t, particles, parameters) reads term t. */
@@ -261,7 +300,8 @@ bool DPDBondedTerms::understands(const OpenMM::Force& force) {
 }
 
 bool DPDBondedTerms::hasAnalyticForces(const OpenMM::Force& force) {
-    return dynamic_cast<const OpenMM::HarmonicBondForce*>(&force) != nullptr || dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force) != nullptr;
+    return dynamic_cast<const OpenMM::HarmonicBondForce*>(&force) != nullptr || dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force) != nullptr ||
+           dynamic_cast<const OpenMM::CustomBondForce*>(&force) != nullptr || dynamic_cast<const OpenMM::CustomAngleForce*>(&force) != nullptr;
 }
 
 DPDBondedTerms::DPDBondedTerms(OpenMM::ContextImpl& context, int groups, bool (*include)(const OpenMM::Force&),
@@ -374,26 +414,98 @@ DPDBondedTerms::Sums DPDBondedTerms::evaluate(const std::vector<Vec3>& positions
     return sums;
 }
 
-void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* box, std::vector<Vec3>& forcesOut) const {
-    forEachTerm(forces, positions, box, [&](const Force& force, int term, const Vec3* local) {
-        const std::array<int, 4>& p = force.particles[term];
-        double u, du, d2u;
-        if (force.coordinate == Force::Distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
-            double r = std::sqrt(local[0].dot(local[0]));
-            if (r == 0.0)
-                return;
-            force.energy(term, r, u, du, d2u);
-            forcesOut[p[0]] -= local[0]*(du/r);
-            forcesOut[p[1]] += local[0]*(du/r);
-            return;
+/*
+ * The forces are computed in two passes, each split over threads by forEachRange: every term's force
+ * vectors into its slots of `contributions`, then every particle's sum of its slots, in the order of
+ * `incidences`: the order in which one loop over the forces and their terms (bonds: q_0 then q_1; angles:
+ * q_0, q_2, then q_1) would add them.  Each particle's sum is thus the same sequence of additions on any
+ * number of threads, and the same as that loop's.
+ */
+struct DPDBondedTerms::ForcePlan {
+    struct Incidence {
+        int slot;    // in contributions
+        int term;    // over all forces, for `valid`
+        double sign; // -1 or +1: a - x and a + (-1) x are the same bits
+    };
+    std::vector<int> firstSlot, firstTerm;        // per force
+    std::vector<int> incidenceBegin;              // per particle, into incidences (CSR)
+    std::vector<Incidence> incidences;
+    std::vector<Vec3> contributions;
+    std::vector<char> valid;                      // per term: 0 where it adds nothing (r = 0, an undefined angle)
+};
+
+void DPDBondedTerms::planForces(int numParticles) const {
+    auto built = std::make_unique<ForcePlan>();
+    std::vector<std::vector<ForcePlan::Incidence> > byParticle(numParticles);
+    int slots = 0, terms = 0;
+    for (const auto& force : forces) {
+        if (force->coordinate == Force::Dihedral)
+            throw OpenMM::OpenMMException("DPDBondedTerms: addForces evaluates bonds and angles only");
+        built->firstSlot.push_back(slots);
+        built->firstTerm.push_back(terms);
+        for (const std::array<int, 4>& p : force->particles) {
+            if (force->coordinate == Force::Distance) { // q_0 -= g, q_1 += g
+                byParticle[p[0]].push_back({slots, terms, -1.0});
+                byParticle[p[1]].push_back({slots, terms, 1.0});
+                slots += 1;
+            }
+            else { // q_0 += first, q_2 += third, q_1 -= first + third
+                byParticle[p[0]].push_back({slots, terms, 1.0});
+                byParticle[p[2]].push_back({slots+1, terms, 1.0});
+                byParticle[p[1]].push_back({slots+2, terms, -1.0});
+                slots += 3;
+            }
+            terms++;
         }
-        AngleGeometry angle(local[0], local[2]);
-        if (!angle.defined)
-            return;
-        force.energy(term, angle.theta, u, du, d2u);
-        Vec3 first = angle.forceOnFirst(du), third = angle.forceOnThird(du);
-        forcesOut[p[0]] += first;
-        forcesOut[p[2]] += third;
-        forcesOut[p[1]] -= first+third;
+    }
+    built->incidenceBegin.push_back(0);
+    for (const auto& list : byParticle) {
+        built->incidences.insert(built->incidences.end(), list.begin(), list.end());
+        built->incidenceBegin.push_back(static_cast<int>(built->incidences.size()));
+    }
+    built->contributions.resize(slots);
+    built->valid.resize(terms);
+    plan = std::move(built);
+}
+
+void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* box, std::vector<Vec3>& forcesOut, const ForEachRange& forEachRange) const {
+    const int numParticles = static_cast<int>(forcesOut.size());
+    if (plan == nullptr || static_cast<int>(plan->incidenceBegin.size()) != numParticles+1)
+        planForces(numParticles);
+    ForcePlan& p = *plan;
+    for (std::size_t f = 0; f < forces.size(); f++) {
+        const Force& force = *forces[f];
+        Vec3* slots = p.contributions.data()+p.firstSlot[f];
+        char* valid = p.valid.data()+p.firstTerm[f];
+        forEachRange(static_cast<int>(force.particles.size()), [&](int begin, int end) {
+            for (int t = begin; t < end; t++) {
+                Vec3 local[4];
+                termGeometry(force, t, positions, box, local);
+                if (force.coordinate == Force::Distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
+                    double r = std::sqrt(local[0].dot(local[0]));
+                    valid[t] = r != 0.0;
+                    if (valid[t])
+                        slots[t] = local[0]*(force.firstDerivative(t, r)/r);
+                    continue;
+                }
+                AngleGeometry angle(local[0], local[2]);
+                valid[t] = angle.defined;
+                if (!angle.defined)
+                    continue;
+                double du = force.firstDerivative(t, angle.theta);
+                Vec3 first = angle.forceOnFirst(du), third = angle.forceOnThird(du);
+                slots[3*t] = first;
+                slots[3*t+1] = third;
+                slots[3*t+2] = first+third;
+            }
+        });
+    }
+    forEachRange(numParticles, [&](int begin, int end) {
+        for (int i = begin; i < end; i++)
+            for (int k = p.incidenceBegin[i]; k < p.incidenceBegin[i+1]; k++) {
+                const ForcePlan::Incidence& incidence = p.incidences[k];
+                if (p.valid[incidence.term])
+                    forcesOut[i] += p.contributions[incidence.slot]*incidence.sign;
+            }
     });
 }

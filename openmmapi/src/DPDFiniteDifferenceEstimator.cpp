@@ -19,7 +19,7 @@ namespace {
 
 /** The private Context of one thread's last estimate: kept while the estimated forces stay the same. */
 struct ForcesContext {
-    std::string systemXml;
+    std::string systemXml; // with the platform's name
     std::unique_ptr<OpenMM::System> system;
     std::unique_ptr<OpenMM::VerletIntegrator> integrator; // never steps: a Context needs one
     std::unique_ptr<OpenMM::Context> context;
@@ -98,6 +98,7 @@ OpenMM::Context& DPDFiniteDifferenceEstimator::forcesContext(OpenMM::ContextImpl
             system->addForce(copy);
         }
     std::stringstream xml;
+    xml << context.getPlatform().getName() << "\n";
     OpenMM::XmlSerializer::serialize<OpenMM::System>(system.get(), "System", xml);
     ForcesContext& cache = cachedForcesContext[doublePrecision ? 1 : 0];
     if (cache.context == nullptr || cache.systemXml != xml.str()) {
@@ -105,7 +106,11 @@ OpenMM::Context& DPDFiniteDifferenceEstimator::forcesContext(OpenMM::ContextImpl
         cache.system = std::move(system);
         cache.integrator = std::make_unique<OpenMM::VerletIntegrator>(0.001);
         std::string why;
-        if (!doublePrecision)
+        // The observed Context's platform where it is a host one (a Context there was made with these forces
+        // already; OpenMM's CPU platform aborts the process on an exception in its worker threads, e.g. a
+        // long-range correction that does not converge), the CPU platform for a GPU one.
+        const std::string observedPlatform = context.getPlatform().getName();
+        if (!doublePrecision && observedPlatform != "Reference")
             cache.context = contextOn("CPU", *cache.system, *cache.integrator, why);
         if (cache.context == nullptr)
             cache.context = contextOn("Reference", *cache.system, *cache.integrator, why);

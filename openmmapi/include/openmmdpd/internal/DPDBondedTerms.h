@@ -4,6 +4,7 @@
 #include "openmm/Force.h"
 #include "openmm/Vec3.h"
 #include "openmm/internal/ContextImpl.h"
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -29,7 +30,8 @@ public:
     /** Whether the observables read this force here (rather than as a pair potential). */
     static bool understands(const OpenMM::Force& force);
     /**
-     * Whether addForces evaluates this force (HarmonicBondForce, HarmonicAngleForce: analytic, and cheap
+     * Whether addForces evaluates this force (HarmonicBondForce, HarmonicAngleForce analytically;
+     * CustomBondForce, CustomAngleForce by their expression's derivative as a DPDExpressionProgram: cheap
      * enough for every step); the others' forces are OpenMM's to compute.
      */
     static bool hasAnalyticForces(const OpenMM::Force& force);
@@ -50,15 +52,25 @@ public:
         double virial = 0.0;      // sum_i q_i . F_i
         double tensor[6] = {};    // sum_i q_i (x) F_i: xx, yy, zz, xy, xz, yz (symmetric for these terms)
     };
-    /** Add every term's force -grad u to `forces` (each force must be one hasAnalyticForces accepts). */
-    void addForces(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, std::vector<OpenMM::Vec3>& forcesOut) const;
+    /** Runs body(begin, end) over ranges that cover [0, count), on one thread or several. */
+    using ForEachRange = std::function<void(int count, const std::function<void(int begin, int end)>& body)>;
+    /**
+     * Add every term's force -grad u to `forces` (each force must be one hasAnalyticForces accepts), split
+     * over ranges by forEachRange; the bits do not depend on how it splits (see ForcePlan in the source).
+     */
+    void addForces(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, std::vector<OpenMM::Vec3>& forcesOut,
+                   const ForEachRange& forEachRange) const;
     /** The sums over every term at these positions, in this box. */
     Sums evaluate(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box) const;
 
     struct Force;
 
+    struct ForcePlan;
+
 private:
+    void planForces(int numParticles) const;
     std::vector<std::unique_ptr<Force> > forces;
+    mutable std::unique_ptr<ForcePlan> plan; // addForces' slots and each particle's order of sums, made at its first call
 };
 
 } // namespace OpenMMDPD

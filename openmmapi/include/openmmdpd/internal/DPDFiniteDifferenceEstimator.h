@@ -24,8 +24,9 @@ namespace OpenMMDPD {
  *   difference D(lambda) - D(2 lambda) = -3 c lambda^2 + ..., so |D(lambda) - D(2 lambda)| / 3 bounds D's error).
  *
  * The forces are evaluated in a private Context that holds copies of those forces only (XmlSerializer),
- * on the CPU platform (Reference where the CPU platform cannot compute them; the virial's energies always
- * on Reference, in double precision, which a difference of energies needs), with the global parameter
+ * on the CPU platform (on Reference where the observed Context is, or where the CPU platform cannot compute
+ * them; the virial's energies always on Reference, in double precision, which a difference of energies
+ * needs), with the global parameter
  * values of the observed Context: the observed Context's positions, forces and integrator are never
  * touched, so measuring never changes a trajectory.  The private Contexts are kept (one a thread) while the
  * forces, the platform and the particle count stay the same.
@@ -58,7 +59,8 @@ public:
 private:
     /**
      * The private Context of the estimated forces, with the observed Context's global parameter values: on
-     * the CPU platform (Reference where it cannot compute them), or on Reference when `doublePrecision`.
+     * the CPU platform (Reference where the observed Context is or where the CPU cannot compute them), or on
+     * Reference when `doublePrecision`.
      */
     OpenMM::Context& forcesContext(OpenMM::ContextImpl& context, bool doublePrecision);
     double energyAt(OpenMM::Context& forces, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, double scale);
