@@ -468,7 +468,10 @@ void DPDBondedTerms::planForces(int numParticles) const {
     plan = std::move(built);
 }
 
-void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* box, std::vector<Vec3>& forcesOut, const ForEachRange& forEachRange) const {
+void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* box, std::vector<Vec3>& forcesOut,
+                               const std::vector<int>* particleOfEntry, const ForEachRange& forEachRange) const {
+    if (forces.empty())
+        return;
     const int numParticles = static_cast<int>(forcesOut.size());
     if (plan == nullptr || static_cast<int>(plan->incidenceBegin.size()) != numParticles+1)
         planForces(numParticles);
@@ -501,11 +504,13 @@ void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* b
         });
     }
     forEachRange(numParticles, [&](int begin, int end) {
-        for (int i = begin; i < end; i++)
+        for (int e = begin; e < end; e++) {
+            int i = particleOfEntry != nullptr ? (*particleOfEntry)[e] : e;
             for (int k = p.incidenceBegin[i]; k < p.incidenceBegin[i+1]; k++) {
                 const ForcePlan::Incidence& incidence = p.incidences[k];
                 if (p.valid[incidence.term])
-                    forcesOut[i] += p.contributions[incidence.slot]*incidence.sign;
+                    forcesOut[e] += p.contributions[incidence.slot]*incidence.sign;
             }
+        }
     });
 }

@@ -9,6 +9,7 @@
 #include "openmm/CustomExternalForce.h"
 #include "openmm/HarmonicAngleForce.h"
 #include "openmm/HarmonicBondForce.h"
+#include "openmm/serialization/XmlSerializer.h"
 
 using namespace OpenMM;
 using namespace OpenMMDPD;
@@ -135,6 +136,38 @@ TEST_P(DirectBondedForces, TwoThreadsGiveTheBitsOfOne) {
             ends.push_back(snapshot(context));
         }
         EXPECT_TRUE(bitIdentical(ends[0], ends[1])) << scheme;
+    }
+}
+
+TEST_P(DirectBondedForces, FusedKicksWithBondsAreTheSeparateKicksBitForBit) {
+    // With one DPDForce and bonds and angles the step evaluates, the CPU engine keeps the conservative
+    // forces, the bonded terms are added to the kept forces, and the schemes kick in the engine's passes
+    // (DPDForceKeepingPairEngine); within one step(n) call neighbouring steps share work too.  A second
+    // DPDForce of zero strength changes no force but makes the step take the separate kicks (forces in
+    // System order); fifteen step(1) calls share no work between steps: the same bits, for every scheme,
+    // on 1 and 2 threads, in a small box (one block per colour) and a larger one.
+    const bool custom = GetParam();
+    auto run = [](const System& system, const SoftFluid& fluid, const std::string& scheme, int threads, int calls) {
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, scheme);
+        integrator.setRandomNumberSeed(5);
+        Context context(system, integrator, platform("CPU"), {{"Threads", std::to_string(threads)}});
+        context.setPositions(fluid.positions);
+        context.setVelocitiesToTemperature(reducedTemperature, 2);
+        for (int call = 0; call < calls; call++)
+            integrator.step(15/calls);
+        return snapshot(context);
+    };
+    for (int numChains : {100, 600}) {
+        SoftFluid fluid = chains(false, true, custom, numChains);
+        std::unique_ptr<System> withZeroForce(XmlSerializer::clone<System>(*fluid.system));
+        withZeroForce->addForce(new DPDForce(0.0, 0.5));
+        for (const std::string& scheme : allSchemes)
+            for (int threads : {1, 2}) {
+                SCOPED_TRACE(scheme+", "+std::to_string(5*numChains)+" particles, "+std::to_string(threads)+" threads");
+                Snapshot fused = run(*fluid.system, fluid, scheme, threads, 1);
+                EXPECT_TRUE(bitIdentical(fused, run(*withZeroForce, fluid, scheme, threads, 1)));
+                EXPECT_TRUE(bitIdentical(fused, run(*fluid.system, fluid, scheme, threads, 15)));
+            }
     }
 }
 

@@ -51,6 +51,8 @@ public:
                                        std::vector<OpenMM::Vec3>& forces) override;
     void keepForcesSorted(bool keep) override { search.keepForcesSorted(keep); }
     void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) override { search.addKeptForcesTo(forces); }
+    std::vector<OpenMM::Vec3>& keptForces() override { return search.getSortedForces(); }
+    const std::vector<int>& keptForceParticles() const override { return search.getGrid().sortedToOriginal; }
     bool sweepBetweenKeptForceKicks(bool bbk, const DPDPairSweep& sweep, double kickDt, std::vector<OpenMM::Vec3>& velocities) override;
     bool kickWithKeptForces(const DPDKeptForceKick& kick, const DPDPairSweep* dissipativeAndRandom, std::vector<OpenMM::Vec3>& velocities) override;
     /** On the engine's threads when every thread gets enough particles to pay for the hand-over; else at once. */

@@ -32,6 +32,13 @@ public:
     virtual void keepForcesSorted(bool keep) = 0;
     virtual void addKeptForcesTo(std::vector<OpenMM::Vec3>& forces) = 0;
     /**
+     * The latest search's kept forces in the engine's order, and for each entry the System index of its
+     * particle: where forces the step evaluates itself (DPDBondedTerms::addForces) are added, so that the
+     * kicks in the engine's passes take them too.
+     */
+    virtual std::vector<OpenMM::Vec3>& keptForces() = 0;
+    virtual const std::vector<int>& keptForceParticles() const = 0;
+    /**
      * B(kickDt) O(sweep.dt) B(kickDt) with the kept forces (ABOBA eqs. 2.20-2.23): the O sweep is the
      * exact OU one or, with bbk, Shardlow's (S1's closing kick, the next step's sweep and its opening
      * kick).  Returns whether every velocity is finite after the kicks.

@@ -104,6 +104,7 @@ private:
     const OpenMM::ForceImpl* sharedForceImpl = nullptr; // its DPDForce
     bool forcesFromDPDForcesAlone = false; // or harmonic bonds and angles, which directBondedForces evaluates
     std::unique_ptr<DPDBondedTerms> directBondedForces;
+    bool onlyForcesTheStepEvaluates = false; // every force of the System is integrated and evaluated by the step (no updateContextState between steps)
     bool directBondedStale = true;           // built at the first direct evaluation, again when parameters change
     std::vector<OpenMM::ForceImpl*> integratedForceImpls;
     bool contextEvaluatedForces = false;

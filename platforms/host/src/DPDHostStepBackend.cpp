@@ -82,9 +82,16 @@ DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIn
             break;
         }
     }
-    // The one integrated DPDForce's engine may keep its forces and kick with them in its own passes.
-    if (sharedForceKernel != nullptr && forcesFromDPDForcesAlone && integratedForceImpls.size() == 1)
+    // The one integrated DPDForce's engine may keep its forces and kick with them in its own passes; the
+    // bonds and angles the step evaluates itself are added to its kept forces.
+    int integratedDPDForces = 0;
+    for (OpenMM::ForceImpl* impl : integratedForceImpls)
+        integratedDPDForces += dynamic_cast<DPDForceImpl*>(impl) != nullptr;
+    if (sharedForceKernel != nullptr && forcesFromDPDForcesAlone && integratedDPDForces == 1)
         forceKeepingEngine = dynamic_cast<DPDForceKeepingPairEngine*>(&sharedForceKernel->getPairEngine());
+    // Neighbouring steps of one step(n) call may share work only where no force acts between them
+    // (updateContextState: a CMMotionRemover, a barostat), i.e. where every force is one the step evaluates.
+    onlyForcesTheStepEvaluates = static_cast<int>(integratedForceImpls.size()) == system.getNumForces();
 }
 
 void DPDHostStepBackend::beginStep(const DPDIntegrator& integrator) {
@@ -145,7 +152,7 @@ DPDFusionSupport DPDHostStepBackend::fusionSupport() const {
     // Only in the direct evaluation (the first goes through the Context), and only when the O sweep is this engine's.
     support.keepForcesForKicks = forceKeepingEngine != nullptr && !friction.allValuesZero && forcesFromDPDForcesAlone && contextEvaluatedForces;
     support.forcesKept = forcesKept;
-    support.stepsMayShareWork = forceKeepingEngine != nullptr && context.getSystem().getNumForces() == 1 && !leesEdwards.isSheared() &&
+    support.stepsMayShareWork = forceKeepingEngine != nullptr && onlyForcesTheStepEvaluates && !leesEdwards.isSheared() &&
                                 !accumulateStress;
     return support;
 }
@@ -302,9 +309,14 @@ void DPDHostStepBackend::evaluateForces(bool keepForces, bool needPairs) {
                 impl->calcForcesAndEnergy(context, true, false, integrationGroups);
         if (std::exchange(directBondedStale, false)) // the first time, or updateParametersInContext since
             directBondedForces = std::make_unique<DPDBondedTerms>(context, integrationGroups, DPDBondedTerms::hasAnalyticForces);
-        directBondedForces->addForces(arrays().positions, arrays().box, forces, [&](int count, const std::function<void(int, int)>& body) {
-            ownEngine->forEachParticleRange(count, body);
-        });
+        auto inRanges = [&](int count, const std::function<void(int, int)>& body) { ownEngine->forEachParticleRange(count, body); };
+        // Kept: each particle's bonded terms are added to its kept DPDForce force in the order the separate
+        // path adds them to the Context's (0 + F_DPD = F_DPD), so the fused kicks see the same bits.
+        if (keepForces)
+            directBondedForces->addForces(arrays().positions, arrays().box, forceKeepingEngine->keptForces(),
+                                          &forceKeepingEngine->keptForceParticles(), inRanges);
+        else
+            directBondedForces->addForces(arrays().positions, arrays().box, forces, inRanges);
     }
     else {
         context.calcForcesAndEnergy(true, false, integrationGroups);

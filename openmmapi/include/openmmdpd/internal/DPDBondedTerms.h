@@ -59,7 +59,12 @@ public:
      * over ranges by forEachRange; the bits do not depend on how it splits (see ForcePlan in the source).
      */
     void addForces(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, std::vector<OpenMM::Vec3>& forcesOut,
-                   const ForEachRange& forEachRange) const;
+                   const ForEachRange& forEachRange) const {
+        addForces(positions, box, forcesOut, nullptr, forEachRange);
+    }
+    /** The same into forces held in another order: forcesOut[e] is the force on particle particleOfEntry[e]. */
+    void addForces(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, std::vector<OpenMM::Vec3>& forcesOut,
+                   const std::vector<int>* particleOfEntry, const ForEachRange& forEachRange) const;
     /** The sums over every term at these positions, in this box. */
     Sums evaluate(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box) const;
 
