@@ -58,7 +58,7 @@ LEGEND = {
     "OpenMM-Verlet-CustomNonbonded": "OpenMM's VerletIntegrator, same step, the same CustomNonbondedForce alone (CPU platform)",
     "OpenMM-arrays": "an OpenMM Context with no force and a VerletIntegrator: OpenMM's own arrays (memory baseline)",
     "ABOBA-bonded": "ABOBA + DPDForce with chains of 10 beads: HarmonicBondForce and HarmonicAngleForce (evaluated by the step itself)",
-    "ABOBA-custombonded": "ABOBA-bonded plus a CustomBondForce on every other bond (the evaluation then goes through the Context)",
+    "ABOBA-custombonded": "ABOBA-bonded plus a CustomBondForce on every other bond (evaluated by the step too, its expression as a DPDExpressionProgram)",
     "ABOBA-stress": "ABOBA + DPDForce with stress accumulation (setStressAccumulation(True)); VV-stress, S1-stress likewise",
     "LAMMPS-VV": "LAMMPS pair_style dpd + fix nve (velocity Verlet), neighbor skin 0.3, checked every step",
     "LAMMPS-Shardlow": "LAMMPS pair_style dpd/fdt + fix shardlow + fix nve (Shardlow splitting = DPD-S1)",

@@ -9,7 +9,7 @@ same step: OpenMM's own cost for the force alone), OpenMM-DPD (openmm.DPDIntegra
 a CustomNonbondedForce), OpenMM-arrays (an OpenMM VerletIntegrator and no force: OpenMM's own arrays,
 the baseline of the memory per particle), ABOBA-bonded (ABOBA with chains of 10 beads: harmonic bonds
 and angles beside the DPDForce, which the step evaluates itself), ABOBA-custombonded (the same plus a
-CustomBondForce, which goes through the Context); a suffix -stress (ABOBA-stress, VV-stress, S1-stress)
+CustomBondForce, which the step evaluates too); a suffix -stress (ABOBA-stress, VV-stress, S1-stress)
 turns stress accumulation on.
 """
 

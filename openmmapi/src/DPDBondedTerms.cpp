@@ -415,11 +415,12 @@ DPDBondedTerms::Sums DPDBondedTerms::evaluate(const std::vector<Vec3>& positions
 }
 
 /*
- * The forces are computed in two passes, each split over threads by forEachRange: every term's force
- * vectors into its slots of `contributions`, then every particle's sum of its slots, in the order of
- * `incidences`: the order in which one loop over the forces and their terms (bonds: q_0 then q_1; angles:
- * q_0, q_2, then q_1) would add them.  Each particle's sum is thus the same sequence of additions on any
- * number of threads, and the same as that loop's.
+ * The forces are computed in passes, each split over threads by forEachRange: every term's force vectors
+ * into its slots of `contributions` (term order), then every particle's bonded force B_i, the sum of its
+ * slots from zero in the order of `incidences` (System order: the order in which one loop over the forces
+ * and their terms adds them; bonds: q_0 then q_1; angles: q_0, q_2, then q_1), then F_i += B_i in the
+ * caller's order.  Each sum is the same sequence of additions on any number of threads, and the forces
+ * reach any array, in System order or an engine's own, as the same bits (F + B in both).
  */
 struct DPDBondedTerms::ForcePlan {
     struct Incidence {
@@ -431,6 +432,7 @@ struct DPDBondedTerms::ForcePlan {
     std::vector<int> incidenceBegin;              // per particle, into incidences (CSR)
     std::vector<Incidence> incidences;
     std::vector<Vec3> contributions;
+    std::vector<Vec3> particleSums;               // B_i per particle (System order)
     std::vector<char> valid;                      // per term: 0 where it adds nothing (r = 0, an undefined angle)
 };
 
@@ -464,6 +466,7 @@ void DPDBondedTerms::planForces(int numParticles) const {
         built->incidenceBegin.push_back(static_cast<int>(built->incidences.size()));
     }
     built->contributions.resize(slots);
+    built->particleSums.resize(numParticles);
     built->valid.resize(terms);
     plan = std::move(built);
 }
@@ -504,13 +507,22 @@ void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* b
         });
     }
     forEachRange(numParticles, [&](int begin, int end) {
-        for (int e = begin; e < end; e++) {
-            int i = particleOfEntry != nullptr ? (*particleOfEntry)[e] : e;
+        for (int i = begin; i < end; i++) {
+            Vec3 sum;
             for (int k = p.incidenceBegin[i]; k < p.incidenceBegin[i+1]; k++) {
                 const ForcePlan::Incidence& incidence = p.incidences[k];
                 if (p.valid[incidence.term])
-                    forcesOut[e] += p.contributions[incidence.slot]*incidence.sign;
+                    sum += p.contributions[incidence.slot]*incidence.sign;
             }
+            p.particleSums[i] = sum;
         }
+    });
+    forEachRange(numParticles, [&](int begin, int end) {
+        if (particleOfEntry == nullptr)
+            for (int i = begin; i < end; i++)
+                forcesOut[i] += p.particleSums[i];
+        else
+            for (int e = begin; e < end; e++)
+                forcesOut[e] += p.particleSums[(*particleOfEntry)[e]];
     });
 }

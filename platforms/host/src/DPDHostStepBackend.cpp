@@ -310,8 +310,8 @@ void DPDHostStepBackend::evaluateForces(bool keepForces, bool needPairs) {
         if (std::exchange(directBondedStale, false)) // the first time, or updateParametersInContext since
             directBondedForces = std::make_unique<DPDBondedTerms>(context, integrationGroups, DPDBondedTerms::hasAnalyticForces);
         auto inRanges = [&](int count, const std::function<void(int, int)>& body) { ownEngine->forEachParticleRange(count, body); };
-        // Kept: each particle's bonded terms are added to its kept DPDForce force in the order the separate
-        // path adds them to the Context's (0 + F_DPD = F_DPD), so the fused kicks see the same bits.
+        // Kept: each particle's bonded force is added to its kept DPDForce force as the separate path adds it
+        // to the Context's (F_DPD + B either way), so the fused kicks see the same bits.
         if (keepForces)
             directBondedForces->addForces(arrays().positions, arrays().box, forceKeepingEngine->keptForces(),
                                           &forceKeepingEngine->keptForceParticles(), inRanges);
