@@ -52,6 +52,7 @@ public:
         du = k*d;
         d2u = k;
     }
+    double firstDerivative(int term, double x) const override { return stiffness[term]*(x-rest[term]); }
     std::vector<double> rest, stiffness;
 };
 
@@ -195,7 +196,10 @@ struct AngleGeometry {
         eb = b/lb;
         cosine = std::max(-1.0, std::min(1.0, ea.dot(eb)));
         theta = std::acos(cosine);
-        sine = std::sin(theta);
+        // |e_a x e_b| rather than sin(acos(cos)): as accurate near 0 and pi (where both lose the angle's
+        // last digits anyway), and no sine to evaluate
+        Vec3 normal = ea.cross(eb);
+        sine = std::sqrt(normal.dot(normal));
         defined = sine != 0.0;
     }
     Vec3 forceOnFirst(double du) const { return (eb-ea*cosine)*(du/(la*sine)); }
