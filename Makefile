@@ -8,7 +8,7 @@ export PYTHON
 export CMAKE_GENERATOR ?= Unix Makefiles
 export CMAKE_BUILD_PARALLEL_LEVEL := $(JOBS)
 
-.PHONY: all deps build install test test-cpp test-python test-installed test-cpp-install test-sanitize docs demo study-full transport bench bench-gpu clean
+.PHONY: all deps build install test test-cpp test-python test-installed test-cpp-install test-sanitize docs demo study-full transport claims bench bench-gpu clean
 
 all: build
 
@@ -83,6 +83,12 @@ demo: build
 # The paper's full protocol (1000 time units, 10 runs, 15% step-size increments): days on 2 cores.
 study-full: build
 	$(PYTHON) -m openmmdpd.study $(SCENES) --budget full --out study-full
+
+# The paper's claims about its other methods (BAOAB, BAOOAB, S1-OU; Shang 2021 sec. 2.3 and after Figure 4):
+# the claims table with error bars and verdicts in claims-report/report.md; about 15-20 minutes on 2 cores.
+claims: build
+	$(PYTHON) -m openmmdpd.study examples/scenes/soft_fluid_gamma4.5.toml examples/scenes/soft_fluid_gamma200.toml \
+		examples/scenes/soft_fluid_gamma450.toml --budget claims --methods ABOBA BAOAB BAOOAB S1 S1-OU --workers 2 --out claims-report
 
 # The transport study (NEMD and matched Norton, friction and system-size scans): about 9 minutes on 2 cores
 # at the reduced budget.

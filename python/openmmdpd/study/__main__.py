@@ -1,8 +1,9 @@
-"""python -m openmmdpd.study SCENE.toml [SCENE.toml ...] --budget reduced --out DIR [--workers N | --scheduler ADDRESS]
+"""python -m openmmdpd.study SCENE.toml [SCENE.toml ...] --budget reduced --out DIR [--methods M ...] [--workers N | --scheduler ADDRESS]
 
 The step-size sweeps run on a Dask cluster and are saved in DIR/runs/ as they finish; the same command
 again skips what is done.  The time per step of each method is measured first, serially, in this
-process (saved in DIR/timings/), before any sweep is submitted."""
+process (saved in DIR/timings/, with the sample of every round), before any sweep is submitted.
+``--methods`` runs only the named methods of each scene."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import argparse
 import json
 import sys
 import time
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Dict, List, Optional
 
@@ -18,22 +19,35 @@ from tqdm import tqdm
 
 from ..resumable_runs import add_cluster_arguments, dask_client, run_resumable
 from .report import markdown_table, summarize, write_report
-from .scene import Scene, load_scene
-from .sweep import RunResult, scene_timings, sweep
+from .scene import METHODS, Scene, load_scene
+from .sweep import RunResult, median_seconds_per_step, scene_timing_samples, sweep
+
+#: Interleaved timing rounds per method (A B C A B C ...): enough per-round ratios for an error bar on the
+#: cost ratio of two methods (Shang 2021 after Figure 4: BAOAB costs almost twice ABOBA).
+TIMING_ROUNDS = 9
 
 
-def saved_timings(scene: Scene, folder: Path) -> Dict[str, float]:
-    """Time per step of every method of the scene: measured here, the methods interleaved (A B C A B C
-    ...), or read from folder/timings/ when an earlier invocation measured the same scene."""
+def saved_timings(scene: Scene, folder: Path) -> Dict[str, Dict[str, object]]:
+    """Time per step of every method of the scene, measured here, the methods interleaved (A B C A B C
+    ...), or read from folder/timings/ when an earlier invocation measured the same scene:
+    {"seconds_per_step": median per method, "seconds_per_step_rounds": the samples of every round}."""
     path = folder / "timings" / f"{scene.name}.json"
     if path.exists():
         saved = json.loads(path.read_text())
-        if saved.get("scene") == repr(scene):
-            return saved["seconds_per_step"]
-    timings = scene_timings(scene, scene.methods)
+        if saved.get("scene") == repr(scene) and "seconds_per_step_rounds" in saved:
+            return {key: saved[key] for key in ("seconds_per_step", "seconds_per_step_rounds")}
+    rounds = scene_timing_samples(scene, scene.methods, repeats=TIMING_ROUNDS)
+    timings = {"seconds_per_step": median_seconds_per_step(rounds), "seconds_per_step_rounds": rounds}
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps({"scene": repr(scene), "seconds_per_step": timings}))
+    path.write_text(json.dumps({"scene": repr(scene), **timings}))
     return timings
+
+
+def restrict_methods(scene: Scene, methods: Optional[List[str]]) -> Scene:
+    """The scene with only those of its methods that are in ``methods`` (all of them when None)."""
+    if methods is None:
+        return scene
+    return replace(scene, methods=[method for method in scene.methods if method in methods])
 
 
 def encode_sweep(results: List[RunResult]) -> List[dict]:
@@ -51,8 +65,13 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument("--out", type=Path, default=Path("study-report"), help="report folder")
     add_cluster_arguments(parser)
     parser.add_argument("--seed", type=int, default=2021, help="base seed; run k uses seed + k")
+    parser.add_argument("--methods", nargs="+", choices=METHODS, metavar="METHOD", default=None,
+                        help=f"run only these of each scene's methods (of: {', '.join(METHODS)})")
     args = parser.parse_args(argv)
-    scenes = [load_scene(path) for path in args.scenes]
+    scenes = [restrict_methods(load_scene(path), args.methods) for path in args.scenes]
+    for path, scene in zip(args.scenes, scenes):
+        if not scene.methods:
+            parser.error(f"{path} runs none of the methods {', '.join(args.methods)}")
     start = time.perf_counter()
 
     timings = {}
@@ -68,7 +87,8 @@ def main(argv: Optional[List[str]] = None) -> int:
         for result in sweep_results:
             results[result.scene].append(result)
 
-    summaries = [summarize(scene, results[scene.name], timings[scene.name]) for scene in scenes]
+    summaries = [summarize(scene, results[scene.name], timings[scene.name]["seconds_per_step"],
+                           timings[scene.name]["seconds_per_step_rounds"]) for scene in scenes]
     command = "python -m openmmdpd.study " + " ".join(sys.argv[1:] if argv is None else argv)
     report = write_report(args.out, scenes, summaries, args.budget, 1, time.perf_counter() - start, command,
                           workers=args.scheduler or args.workers)

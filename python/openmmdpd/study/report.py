@@ -16,15 +16,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .claims import claims_json, claims_section, paper_claims  # noqa: E402
 from .scene import METHOD_DESCRIPTIONS, OPENCL_METHODS, Scene  # noqa: E402
 from .shear_report import add_viscosity_errors, shear_point, shear_section  # noqa: E402
 from .statistics import configurational_relative_error, critical_step_size_range  # noqa: E402
 from .sweep import RunResult  # noqa: E402
 
 
-def summarize(scene: Scene, results: List[RunResult], timings: Dict[str, float]) -> Dict:
+def summarize(scene: Scene, results: List[RunResult], timings: Dict[str, float],
+              timing_rounds: Optional[Dict[str, List[float]]] = None) -> Dict:
     """Per method: the error at each step size (mean over runs, standard error), the step size at which
-    it became unstable, the critical step size, the time per step and the efficiency."""
+    it became unstable, the critical step size, the time per step (and, given ``timing_rounds``, its
+    sample in every interleaved round) and the efficiency.  A point with the RDF keeps each run's
+    histogram too (``rdf_run_histograms``, ``rdf_run_samples``): their scatter is the RDF's error bar."""
     by_method: Dict[str, Dict[float, List[RunResult]]] = defaultdict(lambda: defaultdict(list))
     for result in results:
         by_method[result.method][result.step_size].append(result)
@@ -47,6 +51,8 @@ def summarize(scene: Scene, results: List[RunResult], timings: Dict[str, float])
             if runs[0].rdf_histogram is not None:
                 point["rdf_histogram"] = np.sum([r.rdf_histogram for r in runs], axis=0).tolist()
                 point["rdf_samples"] = int(sum(r.rdf_samples for r in runs))
+                point["rdf_run_histograms"] = [list(r.rdf_histogram) for r in runs]
+                point["rdf_run_samples"] = [int(r.rdf_samples) for r in runs]
             if runs[0].shear_stress:
                 point.update(shear_point(runs, scene))
             points.append(point)
@@ -61,6 +67,7 @@ def summarize(scene: Scene, results: List[RunResult], timings: Dict[str, float])
             "points": points, "unstable_at": unstable_at, "critical_step_size": critical, "critical_range": [low, high],
             "critical_limited_by": limited_by,
             "seconds_per_step": seconds,
+            "seconds_per_step_rounds": (timing_rounds or {}).get(method),
             "efficiency": critical / seconds if critical and seconds else None,
         }
     reference = next((m for m in ("VV", "S1", "ABOBA") if summary["methods"].get(m, {}).get("efficiency")), None)
@@ -202,7 +209,7 @@ def write_report(folder: Path, scenes: List[Scene], summaries: List[Dict], budge
              "Configurational temperature (Shang 2021 eq. 3.1) measured at the positions the Context holds after a "
              "step (q^{n+1}), never at ABOBA's half-step positions. Critical step size: 10% relative error, "
              "interpolated in log-log between bracketing step sizes (or the last stable step size when a method "
-             "became unstable first). Time per step: wall time of 300 steps with no observable, the methods timed in turn (A B C A B C ...), median of 5, "
+             "became unstable first). Time per step: wall time of 300 steps with no observable, the methods timed in turn (A B C A B C ...), median over the rounds, "
              "one thread, measured before the sweeps. Scaled efficiency = (critical step size / time per step) "
              "relative to the reference method. Error bars: standard error over independent runs.", ""]
     for scene, summary in zip(scenes, summaries):
@@ -216,11 +223,15 @@ def write_report(folder: Path, scenes: List[Scene], summaries: List[Dict], budge
         parts.append("")
         if "shear_viscosity" in scene.observables:
             parts += shear_section(summary, scene, folder, plot_errors)
+    claims = paper_claims(scenes, summaries)
+    parts += claims_section(claims)
     (folder / "report.md").write_text("\n".join(parts))
-    (folder / "results.json").write_text(json.dumps({"budget": budget_name, "threads": threads, "machine": machine,
-                                                        "methods": {m: METHOD_DESCRIPTIONS[m] for m in METHOD_DESCRIPTIONS
-                                                                    if any(m in sc.methods for sc in scenes)},
-                                                        "scenes": summaries}, indent=1))
+    results = {"budget": budget_name, "threads": threads, "machine": machine,
+               "methods": {m: METHOD_DESCRIPTIONS[m] for m in METHOD_DESCRIPTIONS if any(m in sc.methods for sc in scenes)},
+               "scenes": summaries}
+    if claims:  # the table of the paper's claims (claims.py), where the scenes hold the methods it needs
+        results["claims"] = claims_json(claims)
+    (folder / "results.json").write_text(json.dumps(results, indent=1))
     with open(folder / "results.csv", "w", newline="") as file:
         writer = csv.writer(file)
         # The viscosity columns are empty for scenes without shear (Table 6's quantities otherwise).

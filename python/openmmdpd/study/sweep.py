@@ -144,21 +144,41 @@ def _timing_context(scene: Scene, method: str, threads: int, warmup: int) -> Tup
     raise RuntimeError(f"{method} is unstable at every timing step size of scene {scene.name}")
 
 
-def interleaved_seconds_per_step(integrators: Mapping[str, mm.Integrator], steps: int = 300, repeats: int = 5) -> Dict[str, float]:
+def interleaved_step_time_samples(integrators: Mapping[str, mm.Integrator], steps: int = 300,
+                                  repeats: int = 5) -> Dict[str, List[float]]:
     """Wall time per step (s) of bound integrators with no observable, timed in turn (A B C A B C ...)
-    so that a change in the machine's load falls on all of them alike: the median over the repeats.
-    The caller keeps their Contexts alive."""
+    so that a change in the machine's load falls on all of them alike: one sample per round and
+    integrator, round k of every integrator at the same list index (so that ratios can be taken round
+    by round).  The caller keeps their Contexts alive."""
     samples: Dict[str, List[float]] = {name: [] for name in integrators}
     for _ in range(repeats):
         for name, integrator in integrators.items():
             start = time.perf_counter()
             integrator.step(steps)
             samples[name].append((time.perf_counter() - start) / steps)
+    return samples
+
+
+def median_seconds_per_step(samples: Mapping[str, Sequence[float]]) -> Dict[str, float]:
+    """The median over the rounds of each integrator's samples (interleaved_step_time_samples)."""
     return {name: float(np.median(values)) for name, values in samples.items()}
+
+
+def interleaved_seconds_per_step(integrators: Mapping[str, mm.Integrator], steps: int = 300, repeats: int = 5) -> Dict[str, float]:
+    """Wall time per step (s) of bound integrators, interleaved (interleaved_step_time_samples): the
+    median over the repeats."""
+    return median_seconds_per_step(interleaved_step_time_samples(integrators, steps, repeats))
+
+
+def scene_timing_samples(scene: Scene, methods: Sequence[str], steps: int = 300, repeats: int = 5, threads: int = 1,
+                         warmup: int = 50) -> Dict[str, List[float]]:
+    """Per-round time per step (s) of each method of a scene, the methods interleaved
+    (interleaved_step_time_samples)."""
+    contexts = {method: _timing_context(scene, method, threads, warmup) for method in methods}
+    return interleaved_step_time_samples({method: integrator for method, (_, integrator) in contexts.items()}, steps, repeats)
 
 
 def scene_timings(scene: Scene, methods: Sequence[str], steps: int = 300, repeats: int = 5, threads: int = 1,
                   warmup: int = 50) -> Dict[str, float]:
-    """Time per step of each method of a scene, the methods interleaved (interleaved_seconds_per_step)."""
-    contexts = {method: _timing_context(scene, method, threads, warmup) for method in methods}
-    return interleaved_seconds_per_step({method: integrator for method, (_, integrator) in contexts.items()}, steps, repeats)
+    """Time per step of each method of a scene: the median of scene_timing_samples."""
+    return median_seconds_per_step(scene_timing_samples(scene, methods, steps, repeats, threads, warmup))
