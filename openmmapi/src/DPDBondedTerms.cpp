@@ -52,7 +52,7 @@ public:
         du = k*d;
         d2u = k;
     }
-    double firstDerivative(int term, double x) const override { return stiffness[term]*(x-rest[term]); }
+    double firstDerivative(int term, double x) const final { return stiffness[term]*(x-rest[term]); }
     std::vector<double> rest, stiffness;
 };
 
@@ -192,8 +192,8 @@ struct AngleGeometry {
     AngleGeometry(const Vec3& a, const Vec3& b) : la(std::sqrt(a.dot(a))), lb(std::sqrt(b.dot(b))) {
         if (la == 0.0 || lb == 0.0)
             return;
-        ea = a/la;
-        eb = b/lb;
+        ea = a*(1.0/la); // a reciprocal and three products: a term's divisions are most of its cost
+        eb = b*(1.0/lb);
         cosine = std::max(-1.0, std::min(1.0, ea.dot(eb)));
         theta = std::acos(cosine);
         // |e_a x e_b| rather than sin(acos(cos)): as accurate near 0 and pi (where both lose the angle's
@@ -231,7 +231,7 @@ void addAngleTerm(const DPDBondedTerms::Force& force, int term, const Vec3& a, c
  * by its minimum image when the force is periodic (the entries a term does not have are not read).
  */
 /** Term t's relative positions (see forEachTerm) into local. */
-void termGeometry(const DPDBondedTerms::Force& force, std::size_t t, const std::vector<Vec3>& positions, const Vec3* box, Vec3* local) {
+inline __attribute__((always_inline)) void termGeometry(const DPDBondedTerms::Force& force, std::size_t t, const std::vector<Vec3>& positions, const Vec3* box, Vec3* local) {
     auto side = [&](int from, int to) {
         Vec3 delta = positions[to]-positions[from];
         return force.periodic ? DPDPeriodicBox::minimumImage(delta, box) : delta;
@@ -440,6 +440,37 @@ struct DPDBondedTerms::ForcePlan {
     std::vector<char> valid;                      // per term: 0 where it adds nothing (r = 0, an undefined angle)
 };
 
+namespace {
+
+/** Terms [begin, end) of a bond or angle force into their slots (see ForcePlan); derivative(t, x) is u'(x) of term t. */
+template <class Derivative>
+void termForces(const DPDBondedTerms::Force& force, const Derivative& derivative, const std::vector<Vec3>& positions, const Vec3* box,
+                Vec3* slots, char* valid, int begin, int end) {
+    const bool distance = force.coordinate == DPDBondedTerms::Force::Distance;
+    for (int t = begin; t < end; t++) {
+        Vec3 local[4];
+        termGeometry(force, t, positions, box, local);
+        if (distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
+            double r = std::sqrt(local[0].dot(local[0]));
+            valid[t] = r != 0.0;
+            if (valid[t])
+                slots[t] = local[0]*(derivative(t, r)/r);
+            continue;
+        }
+        AngleGeometry angle(local[0], local[2]);
+        valid[t] = angle.defined;
+        if (!angle.defined)
+            continue;
+        double du = derivative(t, angle.theta);
+        Vec3 first = angle.forceOnFirst(du), third = angle.forceOnThird(du);
+        slots[3*t] = first;
+        slots[3*t+1] = third;
+        slots[3*t+2] = first+third;
+    }
+}
+
+} // namespace
+
 void DPDBondedTerms::planForces(int numParticles) const {
     auto built = std::make_unique<ForcePlan>();
     std::vector<std::vector<ForcePlan::Incidence> > byParticle(numParticles);
@@ -488,26 +519,11 @@ void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* b
         Vec3* slots = p.contributions.data()+p.firstSlot[f];
         char* valid = p.valid.data()+p.firstTerm[f];
         forEachRange(static_cast<int>(force.particles.size()), [&](int begin, int end) {
-            for (int t = begin; t < end; t++) {
-                Vec3 local[4];
-                termGeometry(force, t, positions, box, local);
-                if (force.coordinate == Force::Distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
-                    double r = std::sqrt(local[0].dot(local[0]));
-                    valid[t] = r != 0.0;
-                    if (valid[t])
-                        slots[t] = local[0]*(force.firstDerivative(t, r)/r);
-                    continue;
-                }
-                AngleGeometry angle(local[0], local[2]);
-                valid[t] = angle.defined;
-                if (!angle.defined)
-                    continue;
-                double du = force.firstDerivative(t, angle.theta);
-                Vec3 first = angle.forceOnFirst(du), third = angle.forceOnThird(du);
-                slots[3*t] = first;
-                slots[3*t+1] = third;
-                slots[3*t+2] = first+third;
-            }
+            // Harmonic terms' u' inline (no virtual call a term), the others' through their expression.
+            if (auto* harmonic = dynamic_cast<const HarmonicTerms*>(&force))
+                termForces(force, [harmonic](int t, double x) { return harmonic->firstDerivative(t, x); }, positions, box, slots, valid, begin, end);
+            else
+                termForces(force, [&force](int t, double x) { return force.firstDerivative(t, x); }, positions, box, slots, valid, begin, end);
         });
     }
     forEachRange(numParticles, [&](int begin, int end) {
