@@ -370,7 +370,11 @@ def claims_section(rows: Sequence[ClaimRow]) -> List[str]:
              "it lies outside; *not resolved at this budget* — it straddles the edge, or too few points are "
              "resolved. Rules, per claim:", "", *[f"- {rule}" for rule in VERDICT_RULES], "",
              "| # | claim | scene | measured | verdict |", "|---|---|---|---|---|"]
-    lines += [f"| {row.number} | {row.claim} | {row.scene} | {row.measured} | {row.verdict} |" for row in rows]
+
+    def cell(text: str) -> str:
+        return text.replace("|", "\\|")  # |Δg| inside a cell would end it
+
+    lines += [f"| {row.number} | {cell(row.claim)} | {row.scene} | {cell(row.measured)} | {row.verdict} |" for row in rows]
     return lines + [""]
 
 
