@@ -1,5 +1,6 @@
 #include "openmmdpd/internal/DPDPairPotentialTerms.h"
 #include "openmmdpd/internal/DPDBondedTerms.h"
+#include "openmmdpd/internal/DPDExpressionProgram.h"
 #include "openmmdpd/internal/DPDForceImpl.h"
 #include "openmmdpd/DPDForce.h"
 #include "openmm/AndersenThermostat.h"
@@ -85,15 +86,10 @@ private:
  */
 class CustomPairTerm : public DPDPairPotentialTerms::Term {
 public:
-    // Lepton's CompiledExpression is laid out differently with and without OpenMM's JIT (whose
-    // headers the OpenMM package does not ship), so the parsed expressions are evaluated directly.
+    // u, u', u'' as DPDExpressionPrograms over (r, each value's name1 and name2, the globals): no map
+    // look-up a pair, and the same bits as Lepton's own evaluation.
     CustomPairTerm(const OpenMM::CustomNonbondedForce& force, int forceIndex, OpenMM::ContextImpl& context)
         : force(checked(force, forceIndex)), numParticles(context.getSystem().getNumParticles()) {
-        Lepton::ParsedExpression energy = Lepton::Parser::parse(force.getEnergyFunction());
-        for (int order = 0; order < 3; order++) {
-            expressions[order] = energy.optimize();
-            energy = energy.differentiate("r");
-        }
         for (int k = 0; k < force.getNumExclusions(); k++) {
             int p1, p2;
             force.getExclusionParticles(k, p1, p2);
@@ -108,9 +104,20 @@ public:
             computed.push_back(Lepton::Parser::parse(expression).optimize());
             valueNames.push_back(name);
         }
-        for (const std::string& name : valueNames)
-            pairVariableNames.emplace_back(name+"1", name+"2");
         stride = static_cast<int>(valueNames.size());
+        std::vector<std::string> programVariables = {"r"};
+        for (const std::string& name : valueNames) {
+            programVariables.push_back(name+"1");
+            programVariables.push_back(name+"2");
+        }
+        for (int k = 0; k < force.getNumGlobalParameters(); k++)
+            programVariables.push_back(force.getGlobalParameterName(k));
+        Lepton::ParsedExpression energy = Lepton::Parser::parse(force.getEnergyFunction());
+        for (int order = 0; order < 3; order++) {
+            programs[order] = DPDExpressionProgram(energy.optimize(), programVariables);
+            energy = energy.differentiate("r");
+        }
+        globalValues.resize(force.getNumGlobalParameters());
         for (int g = 0; g < force.getNumInteractionGroups(); g++) {
             std::set<int> set1, set2;
             force.getInteractionGroupParameters(g, set1, set2);
@@ -125,16 +132,15 @@ public:
     }
     double cutoff() const override { return force.getCutoffDistance(); }
     void refresh(OpenMM::ContextImpl& context) override {
-        variables.clear();
+        std::map<std::string, double> particleVariables; // the globals, then each particle's values (computed values only)
         for (int k = 0; k < force.getNumGlobalParameters(); k++) {
             const std::string& name = force.getGlobalParameterName(k);
-            variables[name] = context.getParameter(name);
+            particleVariables[name] = globalValues[k] = context.getParameter(name);
         }
         // Per-particle parameters, then the computed values of them and of the globals.
         int numPerParticle = force.getNumPerParticleParameters(), numComputed = static_cast<int>(computed.size());
         particleValues.assign(static_cast<std::size_t>(numParticles)*stride, 0.0);
         std::vector<double> parameters;
-        std::map<std::string, double> particleVariables = variables;
         for (int i = 0; i < numParticles; i++) {
             force.getParticleParameters(i, parameters);
             double* values = particleValues.data()+static_cast<std::size_t>(i)*stride; // stride 0: no values, no element to index
@@ -148,15 +154,25 @@ public:
         double rc = force.getCutoffDistance();
         if (r >= rc || !interacts(i, j))
             return;
-        variables["r"] = r;
         const double* values1 = particleValues.data()+static_cast<std::size_t>(i)*stride;
         const double* values2 = particleValues.data()+static_cast<std::size_t>(j)*stride;
-        for (int k = 0; k < stride; k++) {
-            variables[pairVariableNames[k].first] = values1[k];
-            variables[pairVariableNames[k].second] = values2[k];
+        // r, then name1, name2 of each value, then the globals: on the caller's frame (threads may share the term)
+        const std::size_t count = 1+2*stride+globalValues.size();
+        double onTheFrame[32];
+        std::vector<double> onTheHeap;
+        double* values = onTheFrame;
+        if (count > 32) {
+            onTheHeap.resize(count);
+            values = onTheHeap.data();
         }
-        double u = expressions[0].evaluate(variables), du = expressions[1].evaluate(variables);
-        double d2u = expressions[2].evaluate(variables);
+        values[0] = r;
+        for (int k = 0; k < stride; k++) {
+            values[1+2*k] = values1[k];
+            values[2+2*k] = values2[k];
+        }
+        std::copy(globalValues.begin(), globalValues.end(), values+1+2*stride);
+        double u = programs[0].evaluate(values), du = programs[1].evaluate(values);
+        double d2u = programs[2].evaluate(values);
         double rs = force.getSwitchingDistance();
         if (force.getUseSwitchingFunction() && r > rs) {
             // (u S)' = u' S + u S', (u S)'' = u'' S + 2 u' S' + u S''.
@@ -199,15 +215,14 @@ private:
     }
     const OpenMM::CustomNonbondedForce& force;
     int numParticles;
-    Lepton::ParsedExpression expressions[3]; // u, du/dr, d2u/dr2
+    DPDExpressionProgram programs[3]; // u, du/dr, d2u/dr2
     std::unordered_set<long long> exclusions;
     std::vector<std::pair<std::vector<char>, std::vector<char> > > groups; // membership of set 1 and set 2
     int stride = 0;
     std::vector<double> particleValues; // per particle: per-particle parameters, then computed values
     std::vector<std::string> valueNames;                                 // per-particle parameters, then computed values
-    std::vector<std::pair<std::string, std::string> > pairVariableNames; // their name1, name2
+    std::vector<double> globalValues;                                    // the Context's, at the last refresh
     std::vector<Lepton::ParsedExpression> computed;
-    mutable std::map<std::string, double> variables;
 };
 
 } // namespace
