@@ -135,18 +135,11 @@ private:
     /** visit(values) with the variables of term `term` at coordinate x, kept on the caller's frame (threads may share the terms). */
     template <class Visit>
     void withVariables(int term, double x, Visit visit) const {
-        const std::size_t count = 1+numTermParameters+globalValues.size();
-        double onTheFrame[32];
-        std::vector<double> onTheHeap;
-        double* values = onTheFrame;
-        if (count > 32) {
-            onTheHeap.resize(count);
-            values = onTheHeap.data();
-        }
+        DPDExpressionProgram::Values values(1+numTermParameters+globalValues.size());
         values[0] = x;
-        std::copy(termParameters[term].begin(), termParameters[term].end(), values+1);
-        std::copy(globalValues.begin(), globalValues.end(), values+1+numTermParameters);
-        visit(values);
+        std::copy(termParameters[term].begin(), termParameters[term].end(), values.data()+1);
+        std::copy(globalValues.begin(), globalValues.end(), values.data()+1+numTermParameters);
+        visit(values.data());
     }
     DPDExpressionProgram programs[3]; // u, du/dx, d2u/dx2
     int numTermParameters;

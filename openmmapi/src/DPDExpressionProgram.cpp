@@ -8,7 +8,6 @@ using namespace OpenMMDPD;
 
 namespace {
 const std::map<std::string, double> noVariables; // Lepton's operations read variables only for VARIABLE, which the program does itself
-constexpr int stackOnTheCallersFrame = 64;
 } // namespace
 
 DPDExpressionProgram::DPDExpressionProgram(const Lepton::ParsedExpression& parsed, const std::vector<std::string>& variableNames)
@@ -49,18 +48,13 @@ void DPDExpressionProgram::compile(const Lepton::ExpressionTreeNode& node) {
     program.push_back({&operation, 0, static_cast<int>(node.getChildren().size())});
 }
 
-double DPDExpressionProgram::evaluate(const double* values) const {
-    double onTheFrame[stackOnTheCallersFrame];
-    std::vector<double> onTheHeap;
-    double* stack = onTheFrame;
-    if (depth > stackOnTheCallersFrame) { // a very deep expression: rare enough to allocate
-        onTheHeap.resize(depth);
-        stack = onTheHeap.data();
-    }
+double DPDExpressionProgram::evaluate(const double* variableValues) const {
+    Values values(depth);
+    double* stack = values.data();
     int top = 0;
     for (const Instruction& instruction : program) {
         if (instruction.operation == nullptr) {
-            stack[top++] = values[instruction.variable];
+            stack[top++] = variableValues[instruction.variable];
             continue;
         }
         top -= instruction.numArguments; // the arguments, in order, are stack[top ...]

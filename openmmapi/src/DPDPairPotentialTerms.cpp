@@ -157,22 +157,15 @@ public:
         const double* values1 = particleValues.data()+static_cast<std::size_t>(i)*stride;
         const double* values2 = particleValues.data()+static_cast<std::size_t>(j)*stride;
         // r, then name1, name2 of each value, then the globals: on the caller's frame (threads may share the term)
-        const std::size_t count = 1+2*stride+globalValues.size();
-        double onTheFrame[32];
-        std::vector<double> onTheHeap;
-        double* values = onTheFrame;
-        if (count > 32) {
-            onTheHeap.resize(count);
-            values = onTheHeap.data();
-        }
+        DPDExpressionProgram::Values values(1+2*stride+globalValues.size());
         values[0] = r;
         for (int k = 0; k < stride; k++) {
             values[1+2*k] = values1[k];
             values[2+2*k] = values2[k];
         }
-        std::copy(globalValues.begin(), globalValues.end(), values+1+2*stride);
-        double u = programs[0].evaluate(values), du = programs[1].evaluate(values);
-        double d2u = programs[2].evaluate(values);
+        std::copy(globalValues.begin(), globalValues.end(), values.data()+1+2*stride);
+        double u = programs[0].evaluate(values.data()), du = programs[1].evaluate(values.data());
+        double d2u = programs[2].evaluate(values.data());
         double rs = force.getSwitchingDistance();
         if (force.getUseSwitchingFunction() && r > rs) {
             // (u S)' = u' S + u S', (u S)'' = u'' S + 2 u' S' + u S''.

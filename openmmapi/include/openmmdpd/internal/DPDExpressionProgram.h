@@ -19,6 +19,24 @@ namespace OpenMMDPD {
  */
 class DPDExpressionProgram {
 public:
+    /** Room for `count` doubles: on the caller's frame up to 32 of them, on the heap beyond (rare). */
+    class Values {
+    public:
+        explicit Values(std::size_t count) : values(onTheFrame) {
+            if (count > sizeof(onTheFrame)/sizeof(double)) {
+                onTheHeap.resize(count);
+                values = onTheHeap.data();
+            }
+        }
+        Values(const Values&) = delete;
+        Values& operator=(const Values&) = delete;
+        double* data() { return values; }
+        double& operator[](std::size_t k) { return values[k]; }
+    private:
+        double onTheFrame[32];
+        std::vector<double> onTheHeap;
+        double* values;
+    };
     DPDExpressionProgram() = default;
     /** The program of `expression`, whose variables are `variables` (the k-th is values[k] in evaluate); throws naming an unknown variable. */
     DPDExpressionProgram(const Lepton::ParsedExpression& expression, const std::vector<std::string>& variables);
