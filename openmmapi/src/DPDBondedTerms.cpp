@@ -9,6 +9,7 @@
 #include "openmm/PeriodicTorsionForce.h"
 #include "openmm/RBTorsionForce.h"
 #include "openmmdpd/internal/DPDExpressionProgram.h"
+#include "openmmdpd/internal/DPDHarmonicBondedBlock.h"
 #include "lepton/ParsedExpression.h"
 #include "lepton/Parser.h"
 #include <algorithm>
@@ -52,7 +53,6 @@ public:
         du = k*d;
         d2u = k;
     }
-    double firstDerivative(int term, double x) const final { return stiffness[term]*(x-rest[term]); }
     std::vector<double> rest, stiffness;
 };
 
@@ -412,48 +412,54 @@ DPDBondedTerms::Sums DPDBondedTerms::evaluate(const std::vector<Vec3>& positions
 }
 
 /*
- * The forces are computed in passes, each split over threads by forEachRange: every term's force vectors
- * into its slots of `contributions` (term order), then every particle's bonded force B_i, the sum of its
- * slots from zero in the order of `incidences` (System order: the order in which one loop over the forces
- * and their terms adds them; bonds: q_0 then q_1; angles: q_0, q_2, then q_1), then F_i += B_i in the
- * caller's order.  Each sum is the same sequence of additions on any number of threads, and the forces
- * reach any array, in System order or an engine's own, as the same bits (F + B in both).
+ * The forces are computed in two passes, each split over threads by forEachRange: every term's force
+ * vectors into its slots of `contributions` (term order; the threads share units of unitSize terms of
+ * every force), then, in the caller's order, every particle's bonded force B_i, the sum of its slots
+ * from zero in the order of `incidences` (System order: the order in which one loop over the forces and
+ * their terms adds them; bonds: q_0 then q_1; angles: q_0, q_2, then q_1), and F_i += B_i.  Each sum is
+ * the same sequence of additions on any number of threads, and the forces reach any array, in System
+ * order or an engine's own, as the same bits (F + B in both).
  */
+namespace {
+constexpr int unitSize = DPDHarmonicBondedBlock::blockSize; // a harmonic force's unit is one of its blocks
+}
+
 struct DPDBondedTerms::ForcePlan {
     struct Incidence {
         int slot;    // in contributions
-        int term;    // over all forces, for `valid`
         double sign; // -1 or +1: a - x and a + (-1) x are the same bits
     };
-    std::vector<int> firstSlot, firstTerm;        // per force
+    std::vector<int> firstSlot;                   // per force
+    std::vector<int> firstUnit;                   // per force and one past the last: the units of unitSize terms the threads share
     std::vector<int> incidenceBegin;              // per particle, into incidences (CSR)
     std::vector<Incidence> incidences;
     std::vector<Vec3> contributions;
-    std::vector<Vec3> particleSums;               // B_i per particle (System order)
-    std::vector<char> valid;                      // per term: 0 where it adds nothing (r = 0, an undefined angle)
+    std::vector<std::unique_ptr<DPDHarmonicBondedBlock> > harmonicBlocks; // per force: its terms in blocks if harmonic
 };
 
 namespace {
 
-/** Terms [begin, end) of a bond or angle force into their slots (see ForcePlan); derivative(t, x) is u'(x) of term t. */
+/**
+ * Terms [begin, end) of a bond or angle force into their slots (see ForcePlan), zero where a term adds
+ * nothing (r = 0, an undefined angle); derivative(t, x) is u'(x) of term t.
+ */
 template <class Derivative>
 void termForces(const DPDBondedTerms::Force& force, const Derivative& derivative, const std::vector<Vec3>& positions, const Vec3* box,
-                Vec3* slots, char* valid, int begin, int end) {
+                Vec3* slots, int begin, int end) {
     const bool distance = force.coordinate == DPDBondedTerms::Force::Distance;
     for (int t = begin; t < end; t++) {
         Vec3 local[4];
         termGeometry(force, t, positions, box, local);
         if (distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
             double r = std::sqrt(local[0].dot(local[0]));
-            valid[t] = r != 0.0;
-            if (valid[t])
-                slots[t] = local[0]*(derivative(t, r)/r);
+            slots[t] = r != 0.0 ? local[0]*(derivative(t, r)/r) : Vec3();
             continue;
         }
         AngleGeometry angle(local[0], local[2]);
-        valid[t] = angle.defined;
-        if (!angle.defined)
+        if (!angle.defined) {
+            slots[3*t] = slots[3*t+1] = slots[3*t+2] = Vec3();
             continue;
+        }
         double du = derivative(t, angle.theta);
         Vec3 first = angle.forceOnFirst(du), third = angle.forceOnThird(du);
         slots[3*t] = first;
@@ -467,25 +473,27 @@ void termForces(const DPDBondedTerms::Force& force, const Derivative& derivative
 void DPDBondedTerms::planForces(int numParticles) const {
     auto built = std::make_unique<ForcePlan>();
     std::vector<std::vector<ForcePlan::Incidence> > byParticle(numParticles);
-    int slots = 0, terms = 0;
+    int slots = 0;
     for (const auto& force : forces) {
         if (force->coordinate == Force::Dihedral)
             throw OpenMM::OpenMMException("DPDBondedTerms: addForces evaluates bonds and angles only");
         built->firstSlot.push_back(slots);
-        built->firstTerm.push_back(terms);
+        auto* harmonic = dynamic_cast<const HarmonicTerms*>(force.get());
+        built->harmonicBlocks.push_back(harmonic == nullptr || force->particles.empty() ? nullptr
+            : std::make_unique<DPDHarmonicBondedBlock>(force->coordinate == Force::Distance ? 2 : 3, force->particles, harmonic->rest,
+                                                       harmonic->stiffness, force->periodic));
         for (const std::array<int, 4>& p : force->particles) {
             if (force->coordinate == Force::Distance) { // q_0 -= g, q_1 += g
-                byParticle[p[0]].push_back({slots, terms, -1.0});
-                byParticle[p[1]].push_back({slots, terms, 1.0});
+                byParticle[p[0]].push_back({slots, -1.0});
+                byParticle[p[1]].push_back({slots, 1.0});
                 slots += 1;
             }
             else { // q_0 += first, q_2 += third, q_1 -= first + third
-                byParticle[p[0]].push_back({slots, terms, 1.0});
-                byParticle[p[2]].push_back({slots+1, terms, 1.0});
-                byParticle[p[1]].push_back({slots+2, terms, -1.0});
+                byParticle[p[0]].push_back({slots, 1.0});
+                byParticle[p[2]].push_back({slots+1, 1.0});
+                byParticle[p[1]].push_back({slots+2, -1.0});
                 slots += 3;
             }
-            terms++;
         }
     }
     built->incidenceBegin.push_back(0);
@@ -494,8 +502,9 @@ void DPDBondedTerms::planForces(int numParticles) const {
         built->incidenceBegin.push_back(static_cast<int>(built->incidences.size()));
     }
     built->contributions.resize(slots);
-    built->particleSums.resize(numParticles);
-    built->valid.resize(terms);
+    built->firstUnit.push_back(0);
+    for (std::size_t f = 0; f < forces.size(); f++)
+        built->firstUnit.push_back(built->firstUnit.back()+(forces[f]->particles.size()+unitSize-1)/unitSize);
     plan = std::move(built);
 }
 
@@ -507,35 +516,30 @@ void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* b
     if (plan == nullptr || static_cast<int>(plan->incidenceBegin.size()) != numParticles+1)
         planForces(numParticles);
     ForcePlan& p = *plan;
-    for (std::size_t f = 0; f < forces.size(); f++) {
-        const Force& force = *forces[f];
-        Vec3* slots = p.contributions.data()+p.firstSlot[f];
-        char* valid = p.valid.data()+p.firstTerm[f];
-        forEachRange(static_cast<int>(force.particles.size()), [&](int begin, int end) {
-            // Harmonic terms' u' inline (no virtual call a term), the others' through their expression.
-            if (auto* harmonic = dynamic_cast<const HarmonicTerms*>(&force))
-                termForces(force, [harmonic](int t, double x) { return harmonic->firstDerivative(t, x); }, positions, box, slots, valid, begin, end);
-            else
-                termForces(force, [&force](int t, double x) { return force.firstDerivative(t, x); }, positions, box, slots, valid, begin, end);
-        });
-    }
-    forEachRange(numParticles, [&](int begin, int end) {
-        for (int i = begin; i < end; i++) {
-            Vec3 sum;
-            for (int k = p.incidenceBegin[i]; k < p.incidenceBegin[i+1]; k++) {
-                const ForcePlan::Incidence& incidence = p.incidences[k];
-                if (p.valid[incidence.term])
-                    sum += p.contributions[incidence.slot]*incidence.sign;
-            }
-            p.particleSums[i] = sum;
+    // Two passes over threads, not one a force: a pass's start and end cost a two-thread step at N = 3 000 a
+    // few percent.  The threads split the terms (the unit of work forEachRange sizes its ranges by), each
+    // range [b, e) taking the units that start in it.
+    forEachRange(p.firstUnit.back()*unitSize, [&](int b, int e) {
+        const int begin = (b+unitSize-1)/unitSize, end = (e+unitSize-1)/unitSize;
+        for (std::size_t f = 0; f < forces.size(); f++) {
+            int first = std::max(begin, p.firstUnit[f])-p.firstUnit[f], last = std::min(end, p.firstUnit[f+1])-p.firstUnit[f];
+            if (first >= last)
+                continue;
+            const Force& force = *forces[f];
+            Vec3* slots = p.contributions.data()+p.firstSlot[f];
+            if (const DPDHarmonicBondedBlock* harmonic = p.harmonicBlocks[f].get()) // in vectorised blocks
+                harmonic->computeForces(positions.data(), box, slots, first, last);
+            else // custom terms: u' through their expression
+                termForces(force, [&force](int t, double x) { return force.firstDerivative(t, x); }, positions, box, slots, first*unitSize, std::min(last*unitSize, static_cast<int>(force.particles.size())));
         }
     });
     forEachRange(numParticles, [&](int begin, int end) {
-        if (particleOfEntry == nullptr)
-            for (int i = begin; i < end; i++)
-                forcesOut[i] += p.particleSums[i];
-        else
-            for (int e = begin; e < end; e++)
-                forcesOut[e] += p.particleSums[(*particleOfEntry)[e]];
+        for (int e = begin; e < end; e++) {
+            int i = particleOfEntry == nullptr ? e : (*particleOfEntry)[e];
+            Vec3 sum; // B_i, from zero in incidence order, then F_i + B_i
+            for (int k = p.incidenceBegin[i]; k < p.incidenceBegin[i+1]; k++)
+                sum += p.contributions[p.incidences[k].slot]*p.incidences[k].sign;
+            forcesOut[e] += sum;
+        }
     });
 }

@@ -1,4 +1,5 @@
 #include "CpuDPDCellGrid.h"
+#include "openmmdpd/internal/DPDVectorInstructions.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <cmath>
@@ -196,13 +197,11 @@ void locateGeneric(const OpenMM::Vec3* box, const int* cells, const double* in, 
 }
 
 LocatePass selectLocate() {
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
-        __builtin_cpu_supports("avx512bw"))
-        return locateAVX512;
-    if (__builtin_cpu_supports("avx2"))
-        return locateAVX2;
-    return locateGeneric;
+    switch (DPDVectorInstructions::level()) {
+    case DPDVectorInstructions::AVX512: return locateAVX512;
+    case DPDVectorInstructions::AVX2: return locateAVX2;
+    default: return locateGeneric;
+    }
 }
 
 } // namespace

@@ -1,5 +1,6 @@
 // Compiled with -fno-math-errno (see CMakeLists.txt): sqrt then vectorises, and stays correctly rounded.
 #include "CpuDPDConservativeForce.h"
+#include "openmmdpd/internal/DPDVectorInstructions.h"
 #include <algorithm>
 #include <cmath>
 
@@ -72,19 +73,17 @@ using Pass = double (*)(std::size_t, std::size_t, const int*, const int*, const 
                        Vec3* forces) {                                                                                       \
         return addForces<uniform>(numPairs, paddedPairs, pi, pj, ex, ey, ez, table, magnitude, forces);                      \
     }
-OPENMMDPD_FORCE_PASS(addForcesAVX512, __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,fma"))))
-OPENMMDPD_FORCE_PASS(addForcesAVX2, __attribute__((target("avx2,fma"))))
+OPENMMDPD_FORCE_PASS(addForcesAVX512, OPENMMDPD_AVX512_TARGET)
+OPENMMDPD_FORCE_PASS(addForcesAVX2, OPENMMDPD_AVX2_TARGET)
 OPENMMDPD_FORCE_PASS(addForcesGeneric, )
 
 template <bool uniform>
 Pass selectPass() {
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
-        __builtin_cpu_supports("avx512bw"))
-        return addForcesAVX512<uniform>;
-    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
-        return addForcesAVX2<uniform>;
-    return addForcesGeneric<uniform>;
+    switch (DPDVectorInstructions::level()) {
+    case DPDVectorInstructions::AVX512: return addForcesAVX512<uniform>;
+    case DPDVectorInstructions::AVX2: return addForcesAVX2<uniform>;
+    default: return addForcesGeneric<uniform>;
+    }
 }
 
 } // namespace

@@ -1,4 +1,5 @@
 #include "CpuDPDDistanceFilter.h"
+#include "openmmdpd/internal/DPDVectorInstructions.h"
 #include <immintrin.h>
 
 using namespace OpenMMDPD;
@@ -67,8 +68,7 @@ int findPairsAVX512(const Candidates& c, int numInCell, int end, int firstOfCell
 }
 
 FindPairs select() {
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl"))
+    if (DPDVectorInstructions::level() == DPDVectorInstructions::AVX512)
         return findPairsAVX512;
     return findPairsGeneric;
 }

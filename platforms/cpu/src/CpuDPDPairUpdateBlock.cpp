@@ -2,6 +2,7 @@
 // log, cos and sqrt; nothing here tests for NaN or infinity.
 #include "CpuDPDPairUpdateBlock.h"
 #include "DPDPairFormulas.h"
+#include "openmmdpd/internal/DPDVectorInstructions.h"
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -107,19 +108,17 @@ using BlockPass = void (*)(std::size_t, const DPDPairSweep&, const CpuDPDPairUpd
                      double* r, double* slope, double* offset) {                                                           \
         computeBlocks<kind, uniform>(numBlocks, sweep, particles, pi, pj, ex, ey, ez, r, slope, offset);                            \
     }
-OPENMMDPD_BLOCK_PASS(computeBlocksAVX512, __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,fma"))))
-OPENMMDPD_BLOCK_PASS(computeBlocksAVX2, __attribute__((target("avx2,fma"))))
+OPENMMDPD_BLOCK_PASS(computeBlocksAVX512, OPENMMDPD_AVX512_TARGET)
+OPENMMDPD_BLOCK_PASS(computeBlocksAVX2, OPENMMDPD_AVX2_TARGET)
 OPENMMDPD_BLOCK_PASS(computeBlocksGeneric, )
 
 template <CpuDPDPairUpdateBlock::Kind kind, bool uniform>
 BlockPass selectBlockPass() {
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
-        __builtin_cpu_supports("avx512bw"))
-        return computeBlocksAVX512<kind, uniform>;
-    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
-        return computeBlocksAVX2<kind, uniform>;
-    return computeBlocksGeneric<kind, uniform>;
+    switch (DPDVectorInstructions::level()) {
+    case DPDVectorInstructions::AVX512: return computeBlocksAVX512<kind, uniform>;
+    case DPDVectorInstructions::AVX2: return computeBlocksAVX2<kind, uniform>;
+    default: return computeBlocksGeneric<kind, uniform>;
+    }
 }
 
 } // namespace

@@ -1,4 +1,5 @@
 #include "CpuDPDSuccessiveSweep.h"
+#include "openmmdpd/internal/DPDVectorInstructions.h"
 #include <cmath>
 #include <initializer_list>
 
@@ -95,7 +96,7 @@ inline __attribute__((always_inline)) void sweep(const CpuDPDSuccessiveSweep::Ru
  * pair's update to the next, against a multiply and an add.
  */
 template <bool uniform>
-__attribute__((target("avx2,fma"))) void sweepFused(const CpuDPDSuccessiveSweep::Run* runs, Vec3* velocity, const double* inverseMass,
+OPENMMDPD_AVX2_TARGET void sweepFused(const CpuDPDSuccessiveSweep::Run* runs, Vec3* velocity, const double* inverseMass,
                                                      double uniformInverseMass) {
     sweep<uniform, true>(runs, velocity, inverseMass, uniformInverseMass);
 }
@@ -106,8 +107,7 @@ void sweepUnfused(const CpuDPDSuccessiveSweep::Run* runs, Vec3* velocity, const 
 }
 
 bool hasFusedMultiplyAdd() {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return DPDVectorInstructions::level() >= DPDVectorInstructions::AVX2;
 }
 
 } // namespace
