@@ -28,12 +28,6 @@ struct DPDBondedTerms::Force {
     virtual ~Force() = default;
     virtual void refresh(OpenMM::ContextImpl&) {}
     virtual void energy(int term, double x, double& u, double& du, double& d2u) const = 0;
-    /** du/dx alone (what a force needs). */
-    virtual double firstDerivative(int term, double x) const {
-        double u, du, d2u;
-        energy(term, x, u, du, d2u);
-        return du;
-    }
     const Coordinate coordinate;
     const bool periodic;
     std::vector<std::array<int, 4> > particles; // of each term (the first 2, 3 or 4 used)
@@ -124,10 +118,17 @@ public:
             d2u = programs[2].evaluate(values);
         });
     }
-    double firstDerivative(int term, double x) const override {
-        double du = 0.0;
-        withVariables(term, x, [&](const double* values) { du = programs[1].evaluate(values); });
-        return du;
+    /** u'(x[n]) of terms[n] for DPDExpressionProgram::numLanes terms at once (the bits of energy()'s du). */
+    void firstDerivativeLanes(const int* terms, const double* x, double* du) const {
+        constexpr int L = DPDExpressionProgram::numLanes;
+        DPDExpressionProgram::Values values((1+numTermParameters+globalValues.size())*L); // variable k of lane n at k*L+n
+        std::copy(x, x+L, values.data());
+        for (int p = 0; p < numTermParameters; p++)
+            for (int n = 0; n < L; n++)
+                values[(1+p)*L+n] = termParameters[terms[n]][p];
+        for (std::size_t g = 0; g < globalValues.size(); g++)
+            std::fill(values.data()+(1+numTermParameters+g)*L, values.data()+(2+numTermParameters+g)*L, globalValues[g]);
+        programs[1].evaluateLanes(values.data(), du);
     }
     std::vector<std::vector<double> > termParameters;
 
@@ -182,6 +183,7 @@ void addDistanceTerm(const DPDBondedTerms::Force& force, int term, const Vec3& d
  * theta are singular (a set of measure zero).
  */
 struct AngleGeometry {
+    AngleGeometry() = default;
     AngleGeometry(const Vec3& a, const Vec3& b) : la(std::sqrt(a.dot(a))), lb(std::sqrt(b.dot(b))) {
         if (la == 0.0 || lb == 0.0)
             return;
@@ -197,7 +199,7 @@ struct AngleGeometry {
     }
     Vec3 forceOnFirst(double du) const { return (eb-ea*cosine)*(du/(la*sine)); }
     Vec3 forceOnThird(double du) const { return (ea-eb*cosine)*(du/(lb*sine)); }
-    double la, lb, cosine = 1.0, theta = 0.0, sine = 0.0;
+    double la = 0.0, lb = 0.0, cosine = 1.0, theta = 0.0, sine = 0.0;
     Vec3 ea, eb;
     bool defined = false;
 };
@@ -434,37 +436,55 @@ struct DPDBondedTerms::ForcePlan {
     std::vector<int> incidenceBegin;              // per particle, into incidences (CSR)
     std::vector<Incidence> incidences;
     std::vector<Vec3> contributions;
+    std::vector<Vec3> particleSums;               // B_i in System order, for forces held in another order
     std::vector<std::unique_ptr<DPDHarmonicBondedBlock> > harmonicBlocks; // per force: its terms in blocks if harmonic
 };
 
 namespace {
 
 /**
- * Terms [begin, end) of a bond or angle force into their slots (see ForcePlan), zero where a term adds
- * nothing (r = 0, an undefined angle); derivative(t, x) is u'(x) of term t.
+ * Terms [begin, end) of a custom bond or angle force into their slots (see ForcePlan), zero where a term
+ * adds nothing (r = 0, an undefined angle); u' of DPDExpressionProgram::numLanes terms in one evaluation
+ * (the lanes past `end` repeat its last term).
  */
-template <class Derivative>
-void termForces(const DPDBondedTerms::Force& force, const Derivative& derivative, const std::vector<Vec3>& positions, const Vec3* box,
-                Vec3* slots, int begin, int end) {
+void customTermForces(const CustomTerms& force, const std::vector<Vec3>& positions, const Vec3* box, Vec3* slots, int begin, int end) {
+    constexpr int L = DPDExpressionProgram::numLanes;
     const bool distance = force.coordinate == DPDBondedTerms::Force::Distance;
-    for (int t = begin; t < end; t++) {
-        Vec3 local[4];
-        termGeometry(force, t, positions, box, local);
-        if (distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
-            double r = std::sqrt(local[0].dot(local[0]));
-            slots[t] = r != 0.0 ? local[0]*(derivative(t, r)/r) : Vec3();
-            continue;
+    for (int first = begin; first < end; first += L) {
+        const int count = std::min(L, end-first);
+        int terms[L];
+        double x[L], du[L];
+        Vec3 delta[L];
+        AngleGeometry angles[L];
+        for (int n = 0; n < L; n++) {
+            int t = terms[n] = first+std::min(n, count-1);
+            Vec3 local[4];
+            termGeometry(force, t, positions, box, local);
+            if (distance) {
+                delta[n] = local[0];
+                x[n] = std::sqrt(local[0].dot(local[0]));
+            }
+            else {
+                angles[n] = AngleGeometry(local[0], local[2]);
+                x[n] = angles[n].theta;
+            }
         }
-        AngleGeometry angle(local[0], local[2]);
-        if (!angle.defined) {
-            slots[3*t] = slots[3*t+1] = slots[3*t+2] = Vec3();
-            continue;
+        force.firstDerivativeLanes(terms, x, du);
+        for (int n = 0; n < count; n++) {
+            int t = first+n;
+            if (distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
+                slots[t] = x[n] != 0.0 ? delta[n]*(du[n]/x[n]) : Vec3();
+                continue;
+            }
+            if (!angles[n].defined) {
+                slots[3*t] = slots[3*t+1] = slots[3*t+2] = Vec3();
+                continue;
+            }
+            Vec3 onFirst = angles[n].forceOnFirst(du[n]), onThird = angles[n].forceOnThird(du[n]);
+            slots[3*t] = onFirst;
+            slots[3*t+1] = onThird;
+            slots[3*t+2] = onFirst+onThird;
         }
-        double du = derivative(t, angle.theta);
-        Vec3 first = angle.forceOnFirst(du), third = angle.forceOnThird(du);
-        slots[3*t] = first;
-        slots[3*t+1] = third;
-        slots[3*t+2] = first+third;
     }
 }
 
@@ -530,16 +550,32 @@ void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* b
             if (const DPDHarmonicBondedBlock* harmonic = p.harmonicBlocks[f].get()) // in vectorised blocks
                 harmonic->computeForces(positions.data(), box, slots, first, last);
             else // custom terms: u' through their expression
-                termForces(force, [&force](int t, double x) { return force.firstDerivative(t, x); }, positions, box, slots, first*unitSize, std::min(last*unitSize, static_cast<int>(force.particles.size())));
+                customTermForces(dynamic_cast<const CustomTerms&>(force), positions, box, slots, first*unitSize,
+                                 std::min(last*unitSize, static_cast<int>(force.particles.size())));
         }
     });
+    // B_i, from zero in incidence order, then F_i + B_i.  Forces in another order take B in System order
+    // first: summed in the engine's order, every particle's slots would be a cache miss away.
+    auto bondedForce = [&p](int i) {
+        Vec3 sum;
+        for (int k = p.incidenceBegin[i]; k < p.incidenceBegin[i+1]; k++)
+            sum += p.contributions[p.incidences[k].slot]*p.incidences[k].sign;
+        return sum;
+    };
+    if (particleOfEntry == nullptr) {
+        forEachRange(numParticles, [&](int begin, int end) {
+            for (int i = begin; i < end; i++)
+                forcesOut[i] += bondedForce(i);
+        });
+        return;
+    }
+    p.particleSums.resize(numParticles);
     forEachRange(numParticles, [&](int begin, int end) {
-        for (int e = begin; e < end; e++) {
-            int i = particleOfEntry == nullptr ? e : (*particleOfEntry)[e];
-            Vec3 sum; // B_i, from zero in incidence order, then F_i + B_i
-            for (int k = p.incidenceBegin[i]; k < p.incidenceBegin[i+1]; k++)
-                sum += p.contributions[p.incidences[k].slot]*p.incidences[k].sign;
-            forcesOut[e] += sum;
-        }
+        for (int i = begin; i < end; i++)
+            p.particleSums[i] = bondedForce(i);
+    });
+    forEachRange(numParticles, [&](int begin, int end) {
+        for (int e = begin; e < end; e++)
+            forcesOut[e] += p.particleSums[(*particleOfEntry)[e]];
     });
 }

@@ -2,6 +2,7 @@
 #include "lepton/Operation.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 using namespace OpenMMDPD;
@@ -62,4 +63,58 @@ double DPDExpressionProgram::evaluate(const double* variableValues) const {
         top++;
     }
     return stack[0];
+}
+
+void DPDExpressionProgram::evaluateLanes(const double* variableValues, double* results) const {
+    constexpr int L = numLanes;
+    Values values(depth*L);
+    double* stack = values.data(); // entry k of lane n at stack[k*L+n]
+    Values laneArguments(depth);   // one lane's arguments for Lepton's own operations
+    int top = 0;
+    for (const Instruction& instruction : program) {
+        if (instruction.operation == nullptr) {
+            std::copy(variableValues+instruction.variable*L, variableValues+(instruction.variable+1)*L, stack+top*L);
+            top++;
+            continue;
+        }
+        top -= instruction.numArguments;
+        double* x = stack+top*L; // the first argument's lanes, and the result's
+        const double* y = x+L;   // the second's
+        const Lepton::Operation& operation = *instruction.operation;
+        // Each the same operation as Lepton's evaluate (see its Operation.h), on every lane.
+        switch (operation.getId()) {
+        case Lepton::Operation::CONSTANT:
+            std::fill(x, x+L, dynamic_cast<const Lepton::Operation::Constant&>(operation).getValue());
+            break;
+        case Lepton::Operation::ADD: for (int n = 0; n < L; n++) x[n] = x[n]+y[n]; break;
+        case Lepton::Operation::SUBTRACT: for (int n = 0; n < L; n++) x[n] = x[n]-y[n]; break;
+        case Lepton::Operation::MULTIPLY: for (int n = 0; n < L; n++) x[n] = x[n]*y[n]; break;
+        case Lepton::Operation::DIVIDE: for (int n = 0; n < L; n++) x[n] = x[n]/y[n]; break;
+        case Lepton::Operation::NEGATE: for (int n = 0; n < L; n++) x[n] = -x[n]; break;
+        case Lepton::Operation::SQUARE: for (int n = 0; n < L; n++) x[n] = x[n]*x[n]; break;
+        case Lepton::Operation::CUBE: for (int n = 0; n < L; n++) x[n] = x[n]*x[n]*x[n]; break;
+        case Lepton::Operation::RECIPROCAL: for (int n = 0; n < L; n++) x[n] = 1.0/x[n]; break;
+        case Lepton::Operation::SQRT: for (int n = 0; n < L; n++) x[n] = std::sqrt(x[n]); break;
+        case Lepton::Operation::ADD_CONSTANT: {
+            double c = dynamic_cast<const Lepton::Operation::AddConstant&>(operation).getValue();
+            for (int n = 0; n < L; n++)
+                x[n] = x[n]+c;
+            break;
+        }
+        case Lepton::Operation::MULTIPLY_CONSTANT: {
+            double c = dynamic_cast<const Lepton::Operation::MultiplyConstant&>(operation).getValue();
+            for (int n = 0; n < L; n++)
+                x[n] = x[n]*c;
+            break;
+        }
+        default: // lane n's arguments are x[n], x[L+n], ...; its result overwrites only x[n]
+            for (int n = 0; n < L; n++) {
+                for (int a = 0; a < instruction.numArguments; a++)
+                    laneArguments[a] = x[a*L+n];
+                x[n] = operation.evaluate(laneArguments.data(), noVariables);
+            }
+        }
+        top++;
+    }
+    std::copy(stack, stack+L, results);
 }

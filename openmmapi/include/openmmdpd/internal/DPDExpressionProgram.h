@@ -19,7 +19,7 @@ namespace OpenMMDPD {
  */
 class DPDExpressionProgram {
 public:
-    /** Room for `count` doubles: on the caller's frame up to 32 of them, on the heap beyond (rare). */
+    /** Room for `count` doubles: on the caller's frame up to 128 of them, on the heap beyond (rare). */
     class Values {
     public:
         explicit Values(std::size_t count) : values(onTheFrame) {
@@ -33,7 +33,7 @@ public:
         double* data() { return values; }
         double& operator[](std::size_t k) { return values[k]; }
     private:
-        double onTheFrame[32];
+        double onTheFrame[128];
         std::vector<double> onTheHeap;
         double* values;
     };
@@ -44,6 +44,14 @@ public:
     DPDExpressionProgram& operator=(const DPDExpressionProgram& other);
     /** The expression's value for these values of its variables. */
     double evaluate(const double* values) const;
+    /** How many evaluations evaluateLanes makes at once. */
+    static constexpr int numLanes = 8;
+    /**
+     * numLanes evaluations at once: results[n] is evaluate() of the values values[k*numLanes+n] of the
+     * variables k, to the bit.  The arithmetic operations run as loops over the lanes (one dispatch an
+     * operation for all lanes, and the vectoriser's); the others are Lepton's, lane by lane.
+     */
+    void evaluateLanes(const double* values, double* results) const;
 
 private:
     struct Instruction {
