@@ -9,7 +9,7 @@
 #include "openmm/PeriodicTorsionForce.h"
 #include "openmm/RBTorsionForce.h"
 #include "openmmdpd/internal/DPDExpressionProgram.h"
-#include "openmmdpd/internal/DPDHarmonicBondedBlock.h"
+#include "openmmdpd/internal/DPDBondedForceBlock.h"
 #include "lepton/ParsedExpression.h"
 #include "lepton/Parser.h"
 #include <algorithm>
@@ -90,7 +90,7 @@ public:
  * global values: u, u' and u'' as DPDExpressionPrograms over the variables (coordinate, per-term
  * parameters, global parameters), so that a step can evaluate custom bonds itself.
  */
-class CustomTerms : public DPDBondedTerms::Force {
+class CustomTerms : public DPDBondedTerms::Force, public DPDBondedForceBlock::Derivative {
 public:
     template <class CustomForce>
     CustomTerms(Coordinate coordinate, const CustomForce& force, const char* variable, std::vector<std::string> termParameterNames)
@@ -118,14 +118,18 @@ public:
             d2u = programs[2].evaluate(values);
         });
     }
-    /** u'(x[n]) of terms[n] for DPDExpressionProgram::numLanes terms at once (the bits of energy()'s du). */
-    void firstDerivativeLanes(const int* terms, const double* x, double* du) const {
+    /** u'(x[n]) of terms firstTerm+n, a block at once (the bits of energy()'s du; the terms past the last are the last). */
+    void firstDerivatives(int firstTerm, const double* x, double* du) const override {
+        static_assert(DPDExpressionProgram::numLanes == DPDBondedForceBlock::blockSize, "a block's terms in one evaluation");
         constexpr int L = DPDExpressionProgram::numLanes;
+        const int lastTerm = static_cast<int>(termParameters.size())-1;
         DPDExpressionProgram::Values values((1+numTermParameters+globalValues.size())*L); // variable k of lane n at k*L+n
         std::copy(x, x+L, values.data());
-        for (int p = 0; p < numTermParameters; p++)
-            for (int n = 0; n < L; n++)
-                values[(1+p)*L+n] = termParameters[terms[n]][p];
+        for (int n = 0; n < L; n++) {
+            const std::vector<double>& parameters = termParameters[std::min(firstTerm+n, lastTerm)];
+            for (int p = 0; p < numTermParameters; p++)
+                values[(1+p)*L+n] = parameters[p];
+        }
         for (std::size_t g = 0; g < globalValues.size(); g++)
             std::fill(values.data()+(1+numTermParameters+g)*L, values.data()+(2+numTermParameters+g)*L, globalValues[g]);
         programs[1].evaluateLanes(values.data(), du);
@@ -183,7 +187,6 @@ void addDistanceTerm(const DPDBondedTerms::Force& force, int term, const Vec3& d
  * theta are singular (a set of measure zero).
  */
 struct AngleGeometry {
-    AngleGeometry() = default;
     AngleGeometry(const Vec3& a, const Vec3& b) : la(std::sqrt(a.dot(a))), lb(std::sqrt(b.dot(b))) {
         if (la == 0.0 || lb == 0.0)
             return;
@@ -423,7 +426,7 @@ DPDBondedTerms::Sums DPDBondedTerms::evaluate(const std::vector<Vec3>& positions
  * order or an engine's own, as the same bits (F + B in both).
  */
 namespace {
-constexpr int unitSize = DPDHarmonicBondedBlock::blockSize; // a harmonic force's unit is one of its blocks
+constexpr int unitSize = DPDBondedForceBlock::blockSize; // a force's unit is one of its blocks
 }
 
 struct DPDBondedTerms::ForcePlan {
@@ -436,56 +439,10 @@ struct DPDBondedTerms::ForcePlan {
     std::vector<Incidence> incidences;
     std::vector<Vec3> contributions;
     std::vector<Vec3> particleSums;               // B_i in System order, for forces held in another order
-    std::vector<std::unique_ptr<DPDHarmonicBondedBlock> > harmonicBlocks; // per force: its terms in blocks if harmonic
+    std::vector<std::unique_ptr<DPDBondedForceBlock> > blocks; // per force: its terms in blocks (nullptr: no terms)
 };
 
 namespace {
-
-/**
- * Terms [begin, end) of a custom bond or angle force into their slots (see ForcePlan), zero where a term
- * adds nothing (r = 0, an undefined angle); u' of DPDExpressionProgram::numLanes terms in one evaluation
- * (the lanes past `end` repeat its last term).
- */
-void customTermForces(const CustomTerms& force, const std::vector<Vec3>& positions, const Vec3* box, Vec3* slots, int begin, int end) {
-    constexpr int L = DPDExpressionProgram::numLanes;
-    const bool distance = force.coordinate == DPDBondedTerms::Force::Distance;
-    for (int first = begin; first < end; first += L) {
-        const int count = std::min(L, end-first);
-        int terms[L];
-        double x[L], du[L];
-        Vec3 delta[L];
-        AngleGeometry angles[L];
-        for (int n = 0; n < L; n++) {
-            int t = terms[n] = first+std::min(n, count-1);
-            Vec3 local[4];
-            termGeometry(force, t, positions, box, local);
-            if (distance) {
-                delta[n] = local[0];
-                x[n] = std::sqrt(local[0].dot(local[0]));
-            }
-            else {
-                angles[n] = AngleGeometry(local[0], local[2]);
-                x[n] = angles[n].theta;
-            }
-        }
-        force.firstDerivativeLanes(terms, x, du);
-        for (int n = 0; n < count; n++) {
-            int t = first+n;
-            if (distance) { // F_0 = -u' delta/r, delta = q_0 - q_1
-                slots[t] = x[n] != 0.0 ? delta[n]*(du[n]/x[n]) : Vec3();
-                continue;
-            }
-            if (!angles[n].defined) {
-                slots[3*t] = slots[3*t+1] = slots[3*t+2] = Vec3();
-                continue;
-            }
-            Vec3 onFirst = angles[n].forceOnFirst(du[n]), onThird = angles[n].forceOnThird(du[n]);
-            slots[3*t] = onFirst;
-            slots[3*t+1] = onThird;
-            slots[3*t+2] = onFirst+onThird;
-        }
-    }
-}
 
 } // namespace
 
@@ -497,10 +454,15 @@ void DPDBondedTerms::planForces(int numParticles) const {
         if (force->coordinate == Force::Dihedral)
             throw OpenMM::OpenMMException("DPDBondedTerms: addForces evaluates bonds and angles only");
         built->firstSlot.push_back(slots);
-        auto* harmonic = dynamic_cast<const HarmonicTerms*>(force.get());
-        built->harmonicBlocks.push_back(harmonic == nullptr || force->particles.empty() ? nullptr
-            : std::make_unique<DPDHarmonicBondedBlock>(force->coordinate == Force::Distance ? 2 : 3, force->particles, harmonic->rest,
-                                                       harmonic->stiffness, force->periodic));
+        int particlesPerTerm = force->coordinate == Force::Distance ? 2 : 3;
+        if (force->particles.empty())
+            built->blocks.push_back(nullptr);
+        else if (auto* harmonic = dynamic_cast<const HarmonicTerms*>(force.get()))
+            built->blocks.push_back(std::make_unique<DPDBondedForceBlock>(particlesPerTerm, force->particles, harmonic->rest, harmonic->stiffness,
+                                                                          force->periodic));
+        else
+            built->blocks.push_back(std::make_unique<DPDBondedForceBlock>(particlesPerTerm, force->particles,
+                                                                          dynamic_cast<const CustomTerms&>(*force), force->periodic));
         for (const std::array<int, 4>& p : force->particles) {
             if (force->coordinate == Force::Distance) { // q_0 -= g, q_1 += g
                 byParticle[p[0]].push_back(ForcePlan::incidence(slots, true));
@@ -544,13 +506,7 @@ void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* b
             int first = std::max(begin, p.firstUnit[f])-p.firstUnit[f], last = std::min(end, p.firstUnit[f+1])-p.firstUnit[f];
             if (first >= last)
                 continue;
-            const Force& force = *forces[f];
-            Vec3* slots = p.contributions.data()+p.firstSlot[f];
-            if (const DPDHarmonicBondedBlock* harmonic = p.harmonicBlocks[f].get()) // in vectorised blocks
-                harmonic->computeForces(positions.data(), box, slots, first, last);
-            else // custom terms: u' through their expression
-                customTermForces(dynamic_cast<const CustomTerms&>(force), positions, box, slots, first*unitSize,
-                                 std::min(last*unitSize, static_cast<int>(force.particles.size())));
+            p.blocks[f]->computeForces(positions.data(), box, p.contributions.data()+p.firstSlot[f], first, last);
         }
     });
     // B_i, from zero in incidence order, then F_i + B_i.  Forces in another order take B in System order

@@ -41,17 +41,25 @@ void DPDExpressionProgram::compile(const Lepton::ExpressionTreeNode& node) {
         if (found == variables.end())
             throw OpenMM::OpenMMException("DPDExpressionProgram: the expression uses the variable '"+operation.getName()+
                                           "', which is neither a parameter nor the coordinate");
-        program.push_back({nullptr, static_cast<int>(found-variables.begin()), 0});
+        program.push_back({nullptr, static_cast<int>(found-variables.begin()), 0, Lepton::Operation::VARIABLE});
         return;
     }
     for (const Lepton::ExpressionTreeNode& child : node.getChildren())
         compile(child);
-    program.push_back({&operation, 0, static_cast<int>(node.getChildren().size())});
+    Instruction instruction = {&operation, 0, static_cast<int>(node.getChildren().size()), operation.getId()};
+    if (operation.getId() == Lepton::Operation::CONSTANT)
+        instruction.value = dynamic_cast<const Lepton::Operation::Constant&>(operation).getValue();
+    else if (operation.getId() == Lepton::Operation::ADD_CONSTANT)
+        instruction.value = dynamic_cast<const Lepton::Operation::AddConstant&>(operation).getValue();
+    else if (operation.getId() == Lepton::Operation::MULTIPLY_CONSTANT)
+        instruction.value = dynamic_cast<const Lepton::Operation::MultiplyConstant&>(operation).getValue();
+    program.push_back(instruction);
 }
 
 double DPDExpressionProgram::evaluate(const double* variableValues) const {
     Values values(depth);
     double* stack = values.data();
+    stack[0] = 0.0; // (every program writes it; this tells the compiler so)
     int top = 0;
     for (const Instruction& instruction : program) {
         if (instruction.operation == nullptr) {
@@ -81,11 +89,10 @@ void DPDExpressionProgram::evaluateLanes(const double* variableValues, double* r
         double* x = stack+top*L; // the first argument's lanes, and the result's
         const double* y = x+L;   // the second's
         const Lepton::Operation& operation = *instruction.operation;
+        const double c = instruction.value;
         // Each the same operation as Lepton's evaluate (see its Operation.h), on every lane.
-        switch (operation.getId()) {
-        case Lepton::Operation::CONSTANT:
-            std::fill(x, x+L, dynamic_cast<const Lepton::Operation::Constant&>(operation).getValue());
-            break;
+        switch (instruction.id) {
+        case Lepton::Operation::CONSTANT: std::fill(x, x+L, c); break;
         case Lepton::Operation::ADD: for (int n = 0; n < L; n++) x[n] = x[n]+y[n]; break;
         case Lepton::Operation::SUBTRACT: for (int n = 0; n < L; n++) x[n] = x[n]-y[n]; break;
         case Lepton::Operation::MULTIPLY: for (int n = 0; n < L; n++) x[n] = x[n]*y[n]; break;
@@ -95,18 +102,14 @@ void DPDExpressionProgram::evaluateLanes(const double* variableValues, double* r
         case Lepton::Operation::CUBE: for (int n = 0; n < L; n++) x[n] = x[n]*x[n]*x[n]; break;
         case Lepton::Operation::RECIPROCAL: for (int n = 0; n < L; n++) x[n] = 1.0/x[n]; break;
         case Lepton::Operation::SQRT: for (int n = 0; n < L; n++) x[n] = std::sqrt(x[n]); break;
-        case Lepton::Operation::ADD_CONSTANT: {
-            double c = dynamic_cast<const Lepton::Operation::AddConstant&>(operation).getValue();
-            for (int n = 0; n < L; n++)
-                x[n] = x[n]+c;
-            break;
-        }
-        case Lepton::Operation::MULTIPLY_CONSTANT: {
-            double c = dynamic_cast<const Lepton::Operation::MultiplyConstant&>(operation).getValue();
-            for (int n = 0; n < L; n++)
-                x[n] = x[n]*c;
-            break;
-        }
+        // The C library's functions Lepton's operations call (the same functions of this process: the same bits)
+        case Lepton::Operation::EXP: for (int n = 0; n < L; n++) x[n] = std::exp(x[n]); break;
+        case Lepton::Operation::LOG: for (int n = 0; n < L; n++) x[n] = std::log(x[n]); break;
+        case Lepton::Operation::SIN: for (int n = 0; n < L; n++) x[n] = std::sin(x[n]); break;
+        case Lepton::Operation::COS: for (int n = 0; n < L; n++) x[n] = std::cos(x[n]); break;
+        case Lepton::Operation::POWER: for (int n = 0; n < L; n++) x[n] = std::pow(x[n], y[n]); break;
+        case Lepton::Operation::ADD_CONSTANT: for (int n = 0; n < L; n++) x[n] = x[n]+c; break;
+        case Lepton::Operation::MULTIPLY_CONSTANT: for (int n = 0; n < L; n++) x[n] = x[n]*c; break;
         default: // lane n's arguments are x[n], x[L+n], ...; its result overwrites only x[n]
             for (int n = 0; n < L; n++) {
                 for (int a = 0; a < instruction.numArguments; a++)

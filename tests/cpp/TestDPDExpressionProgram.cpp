@@ -14,11 +14,12 @@ using namespace OpenMMDPD;
 namespace {
 
 // Every operation evaluateLanes runs itself (+, -, *, /, negation, square, cube, reciprocal, sqrt, the
-// constant ones) and some it leaves to Lepton (pow, exp, log, cos, step, select, min, abs, erf).
+// constant ones, sqrt, exp, log, sin, cos, pow) and some it leaves to Lepton (step, select, min, abs, erf,
+// the power of a constant); a FENE bond.
 const std::vector<std::string> expressions = {
     "0.5*k*(r-r0)^2", "k*(r-r0)", "a*(1-r/rc)^2/2", "-a*(1-r/rc)/rc", "scale*k*r^3+1/r-sqrt(r)", "(r-r0)/k-2*r",
     "-(r*r)+3", "k*r^(-2.5)+exp(-r)*log(k)", "cos(r)^2+step(r-r0)*select(k-2, r, r0)", "min(r, r0)*abs(r-k)+erf(r)",
-    "r*r*r/(k+scale)", "1/(r+2)-1/(r0+3)"};
+    "r*r*r/(k+scale)", "1/(r+2)-1/(r0+3)", "sin(k*r)-r^r0", "-0.5*k*rc^2*log(1-(r/(rc+r0+r))^2)"};
 const std::vector<std::string> variables = {"r", "r0", "k", "rc", "a", "scale"};
 
 std::vector<double> randomValues(std::mt19937& random) {

@@ -48,8 +48,8 @@ public:
     static constexpr int numLanes = 8;
     /**
      * numLanes evaluations at once: results[n] is evaluate() of the values values[k*numLanes+n] of the
-     * variables k, to the bit.  The arithmetic operations run as loops over the lanes (one dispatch an
-     * operation for all lanes, and the vectoriser's); the others are Lepton's, lane by lane.
+     * variables k, to the bit.  The arithmetic operations, sqrt, exp, log, sin, cos and pow run as loops
+     * over the lanes (one dispatch an operation for all lanes); the others are Lepton's, lane by lane.
      */
     void evaluateLanes(const double* values, double* results) const;
 
@@ -58,6 +58,8 @@ private:
         const Lepton::Operation* operation; // nullptr: push values[variable]
         int variable;
         int numArguments;
+        int id;              // the operation's Lepton::Operation::Id
+        double value = 0.0;  // of CONSTANT, ADD_CONSTANT, MULTIPLY_CONSTANT: read once, not cast at every evaluation
     };
     void compile(const Lepton::ExpressionTreeNode& node);
     Lepton::ParsedExpression expression; // owns the operations the instructions point to

@@ -1,5 +1,6 @@
-// DPDHarmonicBondedBlock, the vectorised harmonic bonds and angles a step evaluates itself: its forces
-// must be OpenMM's (Reference kernels) for any number of terms, whole blocks or not, periodic or not; a
+// DPDBondedForceBlock, the vectorised bonds and angles a step evaluates itself: its forces must be
+// OpenMM's (Reference kernels) for any number of terms, whole blocks or not, periodic or not, with u'
+// inline (harmonic) or from a Derivative (custom expressions) for the right terms; a
 // term's bits must not depend on the lane or block it lands in (which is what lets any split over
 // threads give the same bits); and terms that add nothing (a zero bond, a zero side, collinear sides)
 // must give zero slots, not NaN.
@@ -7,7 +8,7 @@
 #include "openmm/HarmonicAngleForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/VerletIntegrator.h"
-#include "openmmdpd/internal/DPDHarmonicBondedBlock.h"
+#include "openmmdpd/internal/DPDBondedForceBlock.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <cstring>
 #include <random>
@@ -53,7 +54,7 @@ std::vector<Vec3> randomPositions(int numParticles, std::mt19937& random) {
 
 /** The block's slots for these terms, all its blocks at once. */
 std::vector<Vec3> blockSlots(int particlesPerTerm, const Terms& terms, const std::vector<Vec3>& positions, bool periodic) {
-    DPDHarmonicBondedBlock block(particlesPerTerm, terms.particles, terms.rest, terms.stiffness, periodic);
+    DPDBondedForceBlock block(particlesPerTerm, terms.particles, terms.rest, terms.stiffness, periodic);
     std::vector<Vec3> slots(terms.particles.size()*(particlesPerTerm == 2 ? 1 : 3), Vec3(1.0, 2.0, 3.0)); // all to be written
     block.computeForces(positions.data(), box, slots.data(), 0, block.numBlocks());
     return slots;
@@ -105,7 +106,7 @@ std::vector<Vec3> openMMForces(int particlesPerTerm, const Terms& terms, const s
 
 } // namespace
 
-TEST(HarmonicBondedBlock, ForcesAreOpenMMsForWholeAndPartBlocks) {
+TEST(BondedForceBlock, ForcesAreOpenMMsForWholeAndPartBlocks) {
     std::mt19937 random(11);
     for (int particlesPerTerm : {2, 3})
         for (bool periodic : {false, true})
@@ -123,9 +124,38 @@ TEST(HarmonicBondedBlock, ForcesAreOpenMMsForWholeAndPartBlocks) {
             }
 }
 
-TEST(HarmonicBondedBlock, ATermsBitsDoNotDependOnItsLaneOrBlock) {
+TEST(BondedForceBlock, ADerivativeGetsEachTermsCoordinateAndGivesItsForces) {
+    // k (x - x0) from a Derivative that reads each term's own k and x0 by its index: the harmonic block's
+    // bits, whole blocks or not (the lanes past the last term are the last term again).
+    struct Harmonic : DPDBondedForceBlock::Derivative {
+        const Terms* terms;
+        void firstDerivatives(int firstTerm, const double* x, double* du) const override {
+            int lastTerm = static_cast<int>(terms->rest.size())-1;
+            for (int n = 0; n < DPDBondedForceBlock::blockSize; n++) {
+                int t = std::min(firstTerm+n, lastTerm);
+                du[n] = terms->stiffness[t]*(x[n]-terms->rest[t]);
+            }
+        }
+    };
+    std::mt19937 random(13);
+    std::vector<Vec3> positions = randomPositions(50, random);
+    for (int particlesPerTerm : {2, 3})
+        for (int count : {5, 16, 21}) {
+            Terms terms = randomTerms(particlesPerTerm, count, 50, random);
+            Harmonic derivative;
+            derivative.terms = &terms;
+            DPDBondedForceBlock inline_(particlesPerTerm, terms.particles, terms.rest, terms.stiffness, true);
+            DPDBondedForceBlock derived(particlesPerTerm, terms.particles, derivative, true);
+            std::vector<Vec3> expected(count*(particlesPerTerm == 2 ? 1 : 3)), slots(expected.size());
+            inline_.computeForces(positions.data(), box, expected.data(), 0, inline_.numBlocks());
+            derived.computeForces(positions.data(), box, slots.data(), 0, derived.numBlocks());
+            EXPECT_EQ(0, std::memcmp(expected.data(), slots.data(), slots.size()*sizeof(Vec3))) << particlesPerTerm << " " << count;
+        }
+}
+
+TEST(BondedForceBlock, ATermsBitsDoNotDependOnItsLaneOrBlock) {
     // The same term after 0, 1, ..., 9 others: in every lane of the first block and in the second.
-    static_assert(DPDHarmonicBondedBlock::blockSize <= 9, "the probe must reach the second block");
+    static_assert(DPDBondedForceBlock::blockSize <= 9, "the probe must reach the second block");
     std::mt19937 random(12);
     std::vector<Vec3> positions = randomPositions(40, random);
     for (int particlesPerTerm : {2, 3}) {
@@ -157,7 +187,7 @@ TEST(HarmonicBondedBlock, ATermsBitsDoNotDependOnItsLaneOrBlock) {
     }
 }
 
-TEST(HarmonicBondedBlock, TermsThatAddNothingGiveZeroSlotsNotNaN) {
+TEST(BondedForceBlock, TermsThatAddNothingGiveZeroSlotsNotNaN) {
     // particle 0 and 1 coincide; 2, 3, 4 are collinear; 5 and 6 make an ordinary angle with 3
     std::vector<Vec3> positions = {Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(2, 2, 2), Vec3(2.5, 2.5, 2.5), Vec3(3, 3, 3), Vec3(2.5, 3.0, 2.5),
                                    Vec3(3.0, 2.7, 2.2)};
