@@ -9,7 +9,9 @@ same step: OpenMM's own cost for the force alone), OpenMM-DPD (openmm.DPDIntegra
 a CustomNonbondedForce), OpenMM-arrays (an OpenMM VerletIntegrator and no force: OpenMM's own arrays,
 the baseline of the memory per particle), ABOBA-bonded (ABOBA with chains of 10 beads: harmonic bonds
 and angles beside the DPDForce, which the step evaluates itself), ABOBA-custombonded (the same plus a
-CustomBondForce, which the step evaluates too); a suffix -stress (ABOBA-stress, VV-stress, S1-stress)
+CustomBondForce, which the step evaluates too), ABOBA-FENE (the chains' bonds FENE springs, a
+CustomBondForce with a logarithm, and no angles: FENE's zero rest length lets bonded beads overlap,
+where an angle's force diverges); a suffix -stress (ABOBA-stress, VV-stress, S1-stress)
 turns stress accumulation on.
 """
 
@@ -29,18 +31,23 @@ system, positions = dpd.soft_fluid(n, 3.0, seed=1)
 stress = method.endswith("-stress")
 if stress:
     method = method[:-len("-stress")]
-if method in ("ABOBA-bonded", "ABOBA-custombonded"):  # chains of 10 beads: harmonic bonds and angles (and custom bonds)
+if method in ("ABOBA-bonded", "ABOBA-custombonded", "ABOBA-FENE"):  # chains of 10 beads: bonds and angles (and custom bonds)
     bonds, angles, custom = mm.HarmonicBondForce(), mm.HarmonicAngleForce(), mm.CustomBondForce("0.5*k*r^2")
     custom.addPerBondParameter("k")
+    fene = mm.CustomBondForce("-0.5*k*R0^2*log(1-(r/R0)^2)")
+    fene.addPerBondParameter("k")
+    fene.addPerBondParameter("R0")
     for chain in range(n // 10):
         first = 10 * chain
         for b in range(9):
             bonds.addBond(first + b, first + b + 1, 0.5, 50.0)
+            fene.addBond(first + b, first + b + 1, [20.0, 3.0])
             if b % 2 == 0:
                 custom.addBond(first + b, first + b + 1, [4.0])
             if b < 8:
                 angles.addAngle(first + b, first + b + 1, first + b + 2, 3.14159, 3.0)
-    for force in (bonds, angles, custom) if method == "ABOBA-custombonded" else (bonds, angles):
+    chosen = {"ABOBA-bonded": (bonds, angles), "ABOBA-custombonded": (bonds, angles, custom), "ABOBA-FENE": (fene,)}
+    for force in chosen[method]:
         system.addForce(force)
     # A melt, not a fluid with bonds across the box: each chain a random walk of 0.5 nm steps from its first bead.
     import numpy as np
