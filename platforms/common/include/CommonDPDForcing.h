@@ -7,6 +7,7 @@
 #include "openmm/common/ComputeContext.h"
 #include "openmm/internal/ContextImpl.h"
 #include "openmmdpd/DPDForcingProfile.h"
+#include "openmmdpd/DPDIntegrator.h"
 #include <vector>
 
 namespace OpenMMDPD {
@@ -14,34 +15,51 @@ namespace OpenMMDPD {
 /**
  * NEMD and Norton forcing on the GPU platforms (Wu & Shang; dpdForcing.cc): the fields of the host
  * platforms' DPDForcingFields, uploaded by System index when they change (a position-dependent
- * profile is evaluated from downloaded positions).  The scalars the scheme layer needs, R = G . p and
- * the O sweep's G . Delta p^D, are summed on the device in a fixed order and read back, one double each.
+ * profile is evaluated from downloaded positions).  The scalars stay on the device, in `registers`:
+ * F . G (uploaded when it changes), R = G . p and the O sweep's G . Delta p^D (summed there in a fixed
+ * order), the step's multiplier sum and the transport sums, updated by kernels with the formulas of
+ * DPDNortonFormulas.h; the sums are read once a step() call (readTransport).
  */
 class CommonDPDForcing {
 public:
     CommonDPDForcing(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram& program, const OpenMM::System& system);
-    /** F(q) and G(q) of `profile` at the Context's positions; returns F . G. */
+    /** F(q) and G(q) of `profile` at the Context's positions, on the device; returns F . G. */
     double evaluate(OpenMM::ContextImpl& context, const DPDForcingProfile& profile);
-    /** R = G . p at the Context's velocities. */
+    /** R = G . p at the Context's velocities, read back (not used by a step). */
     double responseOfVelocities();
     /** p += xi F. */
     void applyImpulse(double xi);
+    /** Norton: p += xi F with xi = (target - G . p)/(F . G), on the device; the multiplier sum += xi if counted. */
+    void projectOntoTarget(double target, bool counted);
+    /** Norton: the multiplier sum += -(the latest swept G . Delta p^D)/(F . G). */
+    void addDissipationToMultiplier();
+    /** Norton: lastForcing = multiplier sum/h, forcingSum += it, the multiplier sum = 0. */
+    void recordForcing(double stepSize);
+    /** lastResponse = G . p, responseSum += it. */
+    void sampleResponse();
+    void writeTransport(const DPDIntegrator::TransportStatistics& statistics);
+    void readTransport(DPDIntegrator::TransportStatistics& statistics) const;
     OpenMM::ComputeArray& getResponseField() { return responseField; }
     /** Rows for a sweep's per-block G . Delta p^D (cleared), at least `rows` of them. */
     OpenMM::ComputeArray& sweepRows(int rows);
-    /** The sum of the rows a sweep wrote. */
-    double sweptResponse();
+    /** The sum of the rows a sweep wrote, into the registers (for addDissipationToMultiplier). */
+    void sumSweptResponse();
 
 private:
-    double sumOfRows(OpenMM::ComputeArray& rows, int count);
+    /** The registers' entries (dpdForcing.cc has the same). */
+    enum Register { ForcingDotResponse, Response, SweptResponse, MultiplierSum, LastForcing, ForcingSum, LastResponse, ResponseSum, NumRegisters };
+    void sumRows(OpenMM::ComputeArray& rows, int count, Register target);
+    void sumResponseOfVelocities();
     OpenMM::ComputeContext& cc;
-    CommonDPDKernel responseRowsKernel, impulseKernel, sumRowsKernel;
+    CommonDPDKernel responseRowsKernel, impulseKernel, sumRowsKernel, nortonImpulseKernel, bookkeepingKernel;
     DPDForcingFields fields;
     std::vector<double> masses;
     std::vector<OpenMM::Vec3> unusedPositions; // for profiles that do not depend on the positions
     long long uploadedRevision = -1;
+    double uploadedForcingDotResponse = 0.0;
+    bool forcingDotResponseUploaded = false;
     int numSweepRows = 0;
-    OpenMM::ComputeArray forcingField, responseField, responseRows, blockResponse, sum;
+    OpenMM::ComputeArray forcingField, responseField, responseRows, blockResponse, registers;
 };
 
 } // namespace OpenMMDPD

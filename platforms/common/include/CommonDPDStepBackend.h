@@ -28,10 +28,10 @@ namespace OpenMMDPD {
  * Lees-Edwards shear as on the host platforms (DPDLeesEdwardsFlow: the offset in the Context's box,
  * peculiar velocities, the exact sheared drift, molecules wrapped whole, the streaming difference in
  * every pair's relative velocity), the box set on the ComputeContext directly.  NEMD and Norton
- * forcing with the fields of DPDForcingFields kept on the device; their scalars (G . p, and the O
- * sweep's G . Delta p^D for Norton) are summed there and read back, one double each, because the
- * scheme layer computes the multipliers; a profile that depends on the positions (ShearProfile) is
- * evaluated on the host from downloaded positions.  Not yet on these platforms (refused with an
+ * forcing with the fields of DPDForcingFields kept on the device, and their scalars too (G . p, the
+ * O sweep's G . Delta p^D, Norton's multipliers, the transport sums: keepsTransportScalars), read once
+ * a step() call; a profile that depends on the positions (ShearProfile) is evaluated on the host from
+ * downloaded positions.  Not yet on these platforms (refused with an
  * exception naming it): stress accumulation for a System with forces other than one DPDForce.
  * Fusion (DPDStepFusion): a kick and the drift after it in the drift's launch.
  * The sweeps use the grid of the integrated DPDForce's evaluation at the same positions where its
@@ -65,6 +65,13 @@ public:
     double evaluateForcingField() override;
     double responseOfVelocities() const override;
     void applyForcingImpulse(double xi) override;
+    bool keepsTransportScalars() const override { return true; }
+    void projectOntoTarget(double target, bool counted) override;
+    void addDissipationToMultiplier() override;
+    void recordForcing(double stepSize) override;
+    void sampleResponse() override;
+    void writeTransport(const DPDIntegrator::TransportStatistics& statistics) override;
+    void readTransport(DPDIntegrator::TransportStatistics& statistics) const override;
 
     std::vector<OpenMM::Vec3> getStoredForces(OpenMM::Vec3* box) const override;
     void setStoredForces(std::vector<OpenMM::Vec3> forces, const OpenMM::Vec3* box) override;

@@ -7,9 +7,13 @@ using OpenMM::Vec3;
 
 CommonDPDForcing::CommonDPDForcing(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram& program, const OpenMM::System& system)
     : cc(cc), responseRowsKernel(program, "dpdResponseRows"), impulseKernel(program, "dpdApplyForcingImpulse"),
-      sumRowsKernel(program, "dpdSumRows") {
+      sumRowsKernel(program, "dpdSumRows"), nortonImpulseKernel(program, "dpdApplyNortonImpulse"),
+      bookkeepingKernel(program, "dpdNortonBookkeeping") {
     for (int i = 0; i < system.getNumParticles(); i++)
         masses.push_back(system.getParticleMass(i));
+    OpenMM::ContextSelector selector(cc);
+    registers.initialize<double>(cc, NumRegisters, "dpdTransportRegisters");
+    cc.clearBuffer(registers);
 }
 
 double CommonDPDForcing::evaluate(OpenMM::ContextImpl& context, const DPDForcingProfile& profile) {
@@ -44,23 +48,30 @@ double CommonDPDForcing::evaluate(OpenMM::ContextImpl& context, const DPDForcing
         responseField.upload(values);
         uploadedRevision = fields.getRevision();
     }
+    if (!forcingDotResponseUploaded || forcingDotResponse != uploadedForcingDotResponse) { // once for a fixed profile
+        uploadedForcingDotResponse = forcingDotResponse;
+        registers.uploadSubArray(&uploadedForcingDotResponse, ForcingDotResponse, 1);
+        forcingDotResponseUploaded = true;
+    }
     return forcingDotResponse;
 }
 
-double CommonDPDForcing::sumOfRows(OpenMM::ComputeArray& rows, int count) {
-    if (!sum.isInitialized())
-        sum.initialize<double>(cc, 1, "dpdResponseSum");
-    sumRowsKernel.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, count, 1, rows, sum, 0, 0);
-    double value;
-    sum.download(&value); // the scheme layer computes the multipliers from it
-    return value;
+void CommonDPDForcing::sumRows(OpenMM::ComputeArray& rows, int count, Register target) {
+    sumRowsKernel.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, count, 1, rows, registers, static_cast<int>(target), 0);
+}
+
+void CommonDPDForcing::sumResponseOfVelocities() {
+    int numAtoms = cc.getNumAtoms();
+    responseRowsKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getAtomIndexArray(), responseField, responseRows);
+    sumRows(responseRows, numAtoms, Response);
 }
 
 double CommonDPDForcing::responseOfVelocities() {
     OpenMM::ContextSelector selector(cc);
-    int numAtoms = cc.getNumAtoms();
-    responseRowsKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getAtomIndexArray(), responseField, responseRows);
-    return sumOfRows(responseRows, numAtoms);
+    sumResponseOfVelocities();
+    std::vector<double> values(NumRegisters);
+    registers.download(values);
+    return values[Response];
 }
 
 void CommonDPDForcing::applyImpulse(double xi) {
@@ -79,7 +90,46 @@ OpenMM::ComputeArray& CommonDPDForcing::sweepRows(int rows) {
     return blockResponse;
 }
 
-double CommonDPDForcing::sweptResponse() {
+void CommonDPDForcing::sumSweptResponse() {
     OpenMM::ContextSelector selector(cc);
-    return sumOfRows(blockResponse, numSweepRows);
+    sumRows(blockResponse, numSweepRows, SweptResponse);
+}
+
+void CommonDPDForcing::projectOntoTarget(double target, bool counted) {
+    OpenMM::ContextSelector selector(cc);
+    sumResponseOfVelocities();
+    int numAtoms = cc.getNumAtoms();
+    nortonImpulseKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getAtomIndexArray(), forcingField, registers, target, counted ? 1 : 0);
+}
+
+void CommonDPDForcing::addDissipationToMultiplier() {
+    OpenMM::ContextSelector selector(cc);
+    bookkeepingKernel.run(1, 1, registers, 0, 0.0);
+}
+
+void CommonDPDForcing::recordForcing(double stepSize) {
+    OpenMM::ContextSelector selector(cc);
+    bookkeepingKernel.run(1, 1, registers, 1, stepSize);
+}
+
+void CommonDPDForcing::sampleResponse() {
+    OpenMM::ContextSelector selector(cc);
+    sumResponseOfVelocities();
+    bookkeepingKernel.run(1, 1, registers, 2, 0.0);
+}
+
+void CommonDPDForcing::writeTransport(const DPDIntegrator::TransportStatistics& statistics) {
+    OpenMM::ContextSelector selector(cc);
+    double values[] = {0.0, statistics.lastForcing, statistics.forcingSum, statistics.lastResponse, statistics.responseSum};
+    registers.uploadSubArray(values, MultiplierSum, 5);
+}
+
+void CommonDPDForcing::readTransport(DPDIntegrator::TransportStatistics& statistics) const {
+    OpenMM::ContextSelector selector(cc);
+    std::vector<double> values(NumRegisters);
+    registers.download(values);
+    statistics.lastForcing = values[LastForcing];
+    statistics.forcingSum = values[ForcingSum];
+    statistics.lastResponse = values[LastResponse];
+    statistics.responseSum = values[ResponseSum];
 }

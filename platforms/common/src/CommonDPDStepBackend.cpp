@@ -337,7 +337,9 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
 
 double CommonDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& request, bool response) {
     sweep(OrnsteinUhlenbeck, request, response);
-    return response ? forcing->sweptResponse() : 0.0;
+    if (response) // summed on the device for addDissipationToMultiplier, not read back
+        forcing->sumSweptResponse();
+    return 0.0;
 }
 
 void CommonDPDStepBackend::sweepBBK(const DPDSweepRequest& request) {
@@ -404,6 +406,30 @@ double CommonDPDStepBackend::responseOfVelocities() const {
 
 void CommonDPDStepBackend::applyForcingImpulse(double xi) {
     forcing->applyImpulse(xi);
+}
+
+void CommonDPDStepBackend::projectOntoTarget(double target, bool counted) {
+    forcing->projectOntoTarget(target, counted);
+}
+
+void CommonDPDStepBackend::addDissipationToMultiplier() {
+    forcing->addDissipationToMultiplier();
+}
+
+void CommonDPDStepBackend::recordForcing(double stepSize) {
+    forcing->recordForcing(stepSize);
+}
+
+void CommonDPDStepBackend::sampleResponse() {
+    forcing->sampleResponse();
+}
+
+void CommonDPDStepBackend::writeTransport(const DPDIntegrator::TransportStatistics& statistics) {
+    forcing->writeTransport(statistics);
+}
+
+void CommonDPDStepBackend::readTransport(DPDIntegrator::TransportStatistics& statistics) const {
+    forcing->readTransport(statistics);
 }
 
 std::vector<Vec3> CommonDPDStepBackend::getStoredForces(Vec3* box) const {

@@ -33,7 +33,10 @@ public:
     void loadCheckpoint(std::istream& stream);
 
     DPDIntegrator::TransportStatistics getTransportStatistics() const { return state.transport; }
-    void resetTransportStatistics() { state.transport = DPDIntegrator::TransportStatistics(); }
+    void resetTransportStatistics() {
+        state.transport = DPDIntegrator::TransportStatistics();
+        backendHasTransport = false; // the next forced step hands the zeros over
+    }
     /** Restart the pairwise random numbers from `seed` (0: a new seed) at the next step. */
     void setRandomNumberSeed(int seed) { state.reseed(seed); }
     DPDIntegrator::StressStatistics getStressStatistics() const { return backend->stressStatistics(); }
@@ -72,6 +75,9 @@ private:
     double forcingDotResponse = 0.0;  // F . G at the latest forcing-field evaluation
     double multiplierSum = 0.0;       // Norton: the step's sum of the counted multipliers xi
     double responseOfDissipation = 0.0; // Norton: G . Delta p^D of the step's O sweep
+    // The backend holds the transport sums (keepsTransportScalars), as the host's state.transport had
+    // them when they were handed over; state.transport is brought up to date after every call.
+    bool backendHasTransport = false;
 };
 
 } // namespace OpenMMDPD

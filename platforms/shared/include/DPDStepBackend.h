@@ -87,6 +87,24 @@ public:
     virtual double responseOfVelocities() const = 0;
     /** p += xi F. */
     virtual void applyForcingImpulse(double xi) = 0;
+    /**
+     * Whether the backend keeps NEMD's and Norton's scalars where its velocities are (a device): R,
+     * F . G, the step's multipliers and the transport sums, so that no step reads one back.  The scheme
+     * layer then calls the five below (with the formulas of DPDNortonFormulas.h) instead of reading R
+     * and the O sweep's G . Delta p^D, hands the sums over with writeTransport before a call's first step
+     * when they changed on the host, and takes them back with readTransport after its last.
+     */
+    virtual bool keepsTransportScalars() const { return false; }
+    /** Norton: p += xi F with xi = dpdNortonProjection(target, G . p, F . G); the step's multiplier sum += xi if `counted`. */
+    virtual void projectOntoTarget(double target, bool counted);
+    /** Norton: the multiplier sum += dpdNortonDissipation(the latest O sweep's G . Delta p^D, F . G). */
+    virtual void addDissipationToMultiplier();
+    /** Norton: lastForcing = dpdNortonForcing(multiplier sum, stepSize), forcingSum += it, the multiplier sum = 0. */
+    virtual void recordForcing(double stepSize);
+    /** NEMD, Norton: lastResponse = G . p, responseSum += it (steps is the scheme layer's). */
+    virtual void sampleResponse();
+    virtual void writeTransport(const DPDIntegrator::TransportStatistics& statistics);
+    virtual void readTransport(DPDIntegrator::TransportStatistics& statistics) const;
 
     /** For the checkpoint: the stored forces (empty if none) and the box they belong to, and the stress statistics. */
     virtual std::vector<OpenMM::Vec3> getStoredForces(OpenMM::Vec3* box) const = 0;

@@ -1,4 +1,5 @@
 #include "DPDSplittingDynamics.h"
+#include "DPDNortonFormulas.h"
 #include "openmm/OpenMMException.h"
 #include <cmath>
 #include <sstream>
@@ -35,6 +36,11 @@ void DPDSplittingDynamics::step(const DPDIntegrator& integrator, bool moreStepsF
     options.sheared = integrator.getShearRate() != 0.0;
     DPDStepProgram::check(options); // before the step touches anything
     backend->beginStep(integrator);
+    const bool transportOnBackend = options.forcing != DPDIntegrator::NoForcing && backend->keepsTransportScalars();
+    if (transportOnBackend && !backendHasTransport) { // the host's sums changed (a reset, a checkpoint) or never went there
+        backend->writeTransport(state.transport);
+        backendHasTransport = true;
+    }
     try {
         options.frictionless = backend->isFrictionless();
         forcedIntegrator = &integrator;
@@ -44,10 +50,14 @@ void DPDSplittingDynamics::step(const DPDIntegrator& integrator, bool moreStepsF
     catch (...) { // no half-done kick outlives the call, nor a half-taken stress sample
         state.operationsDoneByPreviousStep = 0;
         state.storedForcesValid = false;
+        if (transportOnBackend) // the sums of the steps done, as a host backend would have them
+            backend->readTransport(state.transport);
         backend->abandonStep();
         throw;
     }
     backend->endStep(stepSize, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize); // VV's sweep sums forces, the O sweeps momentum changes
+    if (transportOnBackend && !moreStepsFollow) // once a call: nothing comes back per step
+        backend->readTransport(state.transport);
 }
 
 void DPDSplittingDynamics::runProgram(const std::vector<DPDStepOperation>& steps, bool moreStepsFollow) {
@@ -116,22 +126,37 @@ void DPDSplittingDynamics::execute(const DPDStepOperation& operation, const DPDF
         return;
     case Op::NortonProjection: {
         // xi sets G . p to r after its sub-step (Wu & Shang eqs. 42, 45, 50); lambda sums the counted ones.
-        double xi = (forcedIntegrator->getForcingStrength()-backend->responseOfVelocities())/forcingDotResponse;
+        if (backendHasTransport) {
+            backend->projectOntoTarget(forcedIntegrator->getForcingStrength(), operation.flag);
+            return;
+        }
+        double xi = dpdNortonProjection(forcedIntegrator->getForcingStrength(), backend->responseOfVelocities(), forcingDotResponse);
         backend->applyForcingImpulse(xi);
         if (operation.flag)
             multiplierSum += xi;
         return;
     }
     case Op::NortonDissipation:
-        multiplierSum -= responseOfDissipation/forcingDotResponse; // eq. 63: the martingale part left out
+        if (backendHasTransport)
+            backend->addDissipationToMultiplier();
+        else
+            multiplierSum += dpdNortonDissipation(responseOfDissipation, forcingDotResponse);
         return;
     case Op::NortonRecord:
-        state.transport.lastForcing = multiplierSum/stepSize; // eq. 70
-        state.transport.forcingSum += state.transport.lastForcing;
+        if (backendHasTransport)
+            backend->recordForcing(stepSize);
+        else {
+            state.transport.lastForcing = dpdNortonForcing(multiplierSum, stepSize);
+            state.transport.forcingSum += state.transport.lastForcing;
+        }
         [[fallthrough]];
     case Op::SampleResponse:
-        state.transport.lastResponse = backend->responseOfVelocities(); // R at (q^{n+1}, p^{n+1}), for eq. 9
-        state.transport.responseSum += state.transport.lastResponse;
+        if (backendHasTransport)
+            backend->sampleResponse(); // R at (q^{n+1}, p^{n+1}), for eq. 9
+        else {
+            state.transport.lastResponse = backend->responseOfVelocities();
+            state.transport.responseSum += state.transport.lastResponse;
+        }
         state.transport.steps++;
         return;
     }
@@ -213,6 +238,7 @@ void DPDSplittingDynamics::loadCheckpoint(std::istream& stream) {
     DPDSchemeState loaded = state;
     loaded.readCheckpoint(stream, backend->getNumParticles(), stress, stored, box); // throws before changing anything
     state = loaded;
+    backendHasTransport = false; // the next forced step hands the loaded sums over
     backend->stressStatistics() = stress;
     backend->setStoredForces(std::move(stored), box);
 }

@@ -89,3 +89,74 @@ TEST(OpenCLTransport, NEMDAndNortonAgreeWithTheCPU) {
         EXPECT_GT(std::fabs(mean[0].mean), 5*mean[0].standardError) << mode << ": the transport signal is not resolved";
     }
 }
+
+TEST(OpenCLTransport, TransportSumsStayOnTheDeviceAndComeBackAtEachCallsEnd) {
+    // The scalars and sums of Norton and NEMD live on the device and come back once a step() call
+    // (CommonDPDForcing's registers): 30 steps in one call and in 30 calls must give the same bits, for
+    // the trajectory and for every transport statistic; a reset between calls must restart the sums on
+    // the device (forcingSum = the sum of the lastForcing of each step); a checkpoint taken after a
+    // call must continue bit for bit, its sums included, in a new Context and in the one that took it.
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    for (const char* mode : {"NEMD", "Norton"}) {
+        SCOPED_TRACE(mode);
+        auto run = [&](DPDIntegrator& integrator) {
+            integrator.setRandomNumberSeed(29);
+            if (std::string(mode) == "NEMD")
+                integrator.setNEMD(DPDShearProfile(DPDShearProfile::Sinusoidal), 0.5);
+            else
+                integrator.setNorton(DPDColourDrift(), 0.4);
+            auto context = openCLContext(*start.fluid.system, integrator);
+            context->setPositions(start.fluid.positions);
+            context->setVelocities(start.velocities);
+            return context;
+        };
+        auto same = [](const DPDIntegrator::TransportStatistics& a, const DPDIntegrator::TransportStatistics& b) {
+            return a.steps == b.steps && a.responseSum == b.responseSum && a.forcingSum == b.forcingSum &&
+                   a.lastResponse == b.lastResponse && a.lastForcing == b.lastForcing;
+        };
+        DPDIntegrator oneCall(reducedTemperature, 4.5, 1.0, 0.05, DPDIntegrator::ABOBA);
+        auto first = run(oneCall);
+        oneCall.step(30);
+        DPDIntegrator manyCalls(reducedTemperature, 4.5, 1.0, 0.05, DPDIntegrator::ABOBA);
+        auto second = run(manyCalls);
+        for (int k = 0; k < 30; k++)
+            manyCalls.step(1);
+        EXPECT_TRUE(bitIdentical(snapshot(*first), snapshot(*second)));
+        EXPECT_TRUE(same(oneCall.getTransportStatistics(), manyCalls.getTransportStatistics()));
+        EXPECT_EQ(oneCall.getTransportStatistics().steps, 30);
+        EXPECT_NE(oneCall.getTransportStatistics().responseSum, 0.0);
+
+        // A reset, then five steps one call each: the device's sums start again from zero.
+        manyCalls.resetTransportStatistics();
+        double forcings = 0.0, responses = 0.0;
+        for (int k = 0; k < 5; k++) {
+            manyCalls.step(1);
+            forcings += manyCalls.getTransportStatistics().lastForcing;
+            responses += manyCalls.getTransportStatistics().lastResponse;
+        }
+        EXPECT_EQ(manyCalls.getTransportStatistics().steps, 5);
+        EXPECT_NEAR(manyCalls.getTransportStatistics().responseSum, responses, 1e-12*std::fabs(responses));
+        EXPECT_NEAR(manyCalls.getTransportStatistics().forcingSum, forcings, 1e-12*std::fabs(forcings)+1e-300);
+        if (std::string(mode) == "Norton") {
+            EXPECT_NE(forcings, 0.0);
+        }
+
+        // A checkpoint after 30 steps continues bit for bit, the sums included.
+        std::stringstream checkpoint;
+        first->createCheckpoint(checkpoint);
+        oneCall.step(20);
+        DPDIntegrator restored(reducedTemperature, 4.5, 1.0, 0.05, DPDIntegrator::ABOBA);
+        auto third = run(restored);
+        std::stringstream toNewContext(checkpoint.str()), toSameContext(checkpoint.str());
+        third->loadCheckpoint(toNewContext);
+        restored.step(20);
+        EXPECT_TRUE(bitIdentical(snapshot(*first), snapshot(*third)));
+        EXPECT_TRUE(same(oneCall.getTransportStatistics(), restored.getTransportStatistics()));
+        EXPECT_EQ(restored.getTransportStatistics().steps, 50);
+        DPDIntegrator::TransportStatistics after50 = oneCall.getTransportStatistics();
+        first->loadCheckpoint(toSameContext); // back 20 steps, in the Context whose device holds the sums of 50
+        oneCall.step(20);
+        EXPECT_TRUE(same(after50, oneCall.getTransportStatistics()));
+        EXPECT_TRUE(bitIdentical(snapshot(*first), snapshot(*third)));
+    }
+}
