@@ -417,11 +417,12 @@ DPDBondedTerms::Sums DPDBondedTerms::evaluate(const std::vector<Vec3>& positions
 }
 
 /*
- * The forces are computed in two passes, each split over threads by forEachRange: every term's force
+ * The forces are computed in passes, each split over threads by forEachRange: every term's force
  * vectors into its slots of `contributions` (term order; the threads share units of unitSize terms of
- * every force), then, in the caller's order, every particle's bonded force B_i, the sum of its slots
- * from zero in the order of `incidences` (System order: the order in which one loop over the forces and
- * their terms adds them; bonds: q_0 then q_1; angles: q_0, q_2, then q_1), and F_i += B_i.  Each sum is
+ * every force), then every particle's bonded force B_i, the sum of its slots from zero in the order of
+ * `incidences` (System order: the order in which one loop over the forces and their terms adds them;
+ * bonds: q_0 then q_1; angles: q_0, q_2, then q_1), and F_i += B_i in the caller's order (in the same
+ * pass for forces in System order, in a third for forces held in another order).  Each sum is
  * the same sequence of additions on any number of threads, and the forces reach any array, in System
  * order or an engine's own, as the same bits (F + B in both).
  */
@@ -441,10 +442,6 @@ struct DPDBondedTerms::ForcePlan {
     std::vector<Vec3> particleSums;               // B_i in System order, for forces held in another order
     std::vector<std::unique_ptr<DPDBondedForceBlock> > blocks; // per force: its terms in blocks (nullptr: no terms)
 };
-
-namespace {
-
-} // namespace
 
 void DPDBondedTerms::planForces(int numParticles) const {
     auto built = std::make_unique<ForcePlan>();
@@ -497,8 +494,8 @@ void DPDBondedTerms::addForces(const std::vector<Vec3>& positions, const Vec3* b
     if (plan == nullptr || static_cast<int>(plan->incidenceBegin.size()) != numParticles+1)
         planForces(numParticles);
     ForcePlan& p = *plan;
-    // Two passes over threads, not one a force: a pass's start and end cost a two-thread step at N = 3 000 a
-    // few percent.  The threads split the terms (the unit of work forEachRange sizes its ranges by), each
+    // One pass over the threads for every force's terms, not one a force: a pass's start and end cost a
+    // two-thread step at N = 3 000 a few percent.  The threads split the terms (the unit of work forEachRange sizes its ranges by), each
     // range [b, e) taking the units that start in it.
     forEachRange(p.firstUnit.back()*unitSize, [&](int b, int e) {
         const int begin = (b+unitSize-1)/unitSize, end = (e+unitSize-1)/unitSize;
