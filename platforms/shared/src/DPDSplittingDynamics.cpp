@@ -50,8 +50,14 @@ void DPDSplittingDynamics::step(const DPDIntegrator& integrator, bool moreStepsF
     catch (...) { // no half-done kick outlives the call, nor a half-taken stress sample
         state.operationsDoneByPreviousStep = 0;
         state.storedForcesValid = false;
-        if (transportOnBackend) // the sums of the steps done, as a host backend would have them
-            backend->readTransport(state.transport);
+        if (transportOnBackend) { // the sums of the steps done, as a host backend would have them
+            try {
+                backend->readTransport(state.transport);
+            }
+            catch (...) { // a device that cannot be read: the sums stay those of the last call, the step's error goes on
+                backendHasTransport = false;
+            }
+        }
         backend->abandonStep();
         throw;
     }
