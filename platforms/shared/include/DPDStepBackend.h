@@ -90,9 +90,10 @@ public:
     /**
      * Whether the backend keeps NEMD's and Norton's scalars where its velocities are (a device): R,
      * F . G, the step's multipliers and the transport sums, so that no step reads one back.  The scheme
-     * layer then calls the five below (with the formulas of DPDNortonFormulas.h) instead of reading R
-     * and the O sweep's G . Delta p^D, hands the sums over with writeTransport before a call's first step
-     * when they changed on the host, and takes them back with readTransport after its last.
+     * layer then calls projectOntoTarget, addDissipationToMultiplier, recordForcing and sampleResponse
+     * (with the formulas of DPDNortonFormulas.h) instead of reading R and the O sweep's G . Delta p^D,
+     * hands the sums over with writeTransport before a forced step when they changed on the host (a
+     * reset, a checkpoint), and takes them back with readTransport after a call's last step.
      */
     virtual bool keepsTransportScalars() const { return false; }
     /** Norton: p += xi F with xi = dpdNortonProjection(target, G . p, F . G); the step's multiplier sum += xi if `counted`. */
