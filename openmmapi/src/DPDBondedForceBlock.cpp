@@ -129,57 +129,62 @@ inline __attribute__((always_inline)) void firstDerivatives(const Terms& terms, 
         l.du[n] = stiffness[first+n]*(l.x[n]-rest[first+n]);
 }
 
-template <bool periodic>
-inline __attribute__((always_inline)) void bondBlocks(const Terms& terms, const double* __restrict q, const Box& box, Vec3* slots,
-                                                      int beginBlock, int endBlock) {
-    for (int block = beginBlock; block < endBlock; block++) {
-        const int first = block*B;
-        Lanes l;
-        bondGeometry<periodic>(terms, first, q, box, l);
-        firstDerivatives(terms, first, l);
-        double fx[B], fy[B], fz[B];
+/** F_0 = -u'(r) (q_0 - q_1)/r of a block's bonds into their slots. */
+inline __attribute__((always_inline)) void bondForces(const Lanes& l, int first, int numTerms, Vec3* slots) {
+    double fx[B], fy[B], fz[B];
 #pragma omp simd
-        for (int n = 0; n < B; n++) { // F_0 = -u'(r) (q_0 - q_1)/r
-            double scale = l.du[n]*l.scaleA[n];
-            fx[n] = l.ax[n]*scale;
-            fy[n] = l.ay[n]*scale;
-            fz[n] = l.az[n]*scale;
+    for (int n = 0; n < B; n++) {
+        double scale = l.du[n]*l.scaleA[n];
+        fx[n] = l.ax[n]*scale;
+        fy[n] = l.ay[n]*scale;
+        fz[n] = l.az[n]*scale;
+    }
+    for (int n = 0; n < B && first+n < numTerms; n++)
+        slots[first+n] = l.acts[n] != 0.0 ? Vec3(fx[n], fy[n], fz[n]) : Vec3();
+}
+
+/** -u'(theta) grad theta on a block's angles' first and third particles, and their sum, into their slots. */
+inline __attribute__((always_inline)) void angleForces(const Lanes& l, int first, int numTerms, Vec3* slots) {
+    double firstX[B], firstY[B], firstZ[B], thirdX[B], thirdY[B], thirdZ[B];
+#pragma omp simd
+    for (int n = 0; n < B; n++) {
+        double onFirst = l.du[n]*l.scaleA[n], onThird = l.du[n]*l.scaleB[n], c = l.cosine[n];
+        firstX[n] = (l.bx[n]-l.ax[n]*c)*onFirst;
+        firstY[n] = (l.by[n]-l.ay[n]*c)*onFirst;
+        firstZ[n] = (l.bz[n]-l.az[n]*c)*onFirst;
+        thirdX[n] = (l.ax[n]-l.bx[n]*c)*onThird;
+        thirdY[n] = (l.ay[n]-l.by[n]*c)*onThird;
+        thirdZ[n] = (l.az[n]-l.bz[n]*c)*onThird;
+    }
+    for (int n = 0; n < B && first+n < numTerms; n++) {
+        Vec3 onFirst, onThird;
+        if (l.acts[n] != 0.0) {
+            onFirst = Vec3(firstX[n], firstY[n], firstZ[n]);
+            onThird = Vec3(thirdX[n], thirdY[n], thirdZ[n]);
         }
-        for (int n = 0; n < B && first+n < terms.numTerms; n++)
-            slots[first+n] = l.acts[n] != 0.0 ? Vec3(fx[n], fy[n], fz[n]) : Vec3();
+        int t = first+n;
+        slots[3*t] = onFirst;
+        slots[3*t+1] = onThird;
+        slots[3*t+2] = onFirst+onThird;
     }
 }
 
-template <bool periodic>
-inline __attribute__((always_inline)) void angleBlocks(const Terms& terms, const double* __restrict q, const Box& box, Vec3* slots,
+/** Blocks [beginBlock, endBlock): the geometry, u', the forces. */
+template <bool periodic, bool angles>
+inline __attribute__((always_inline)) void forceBlocks(const Terms& terms, const double* __restrict q, const Box& box, Vec3* slots,
                                                        int beginBlock, int endBlock) {
     for (int block = beginBlock; block < endBlock; block++) {
         const int first = block*B;
         Lanes l;
-        angleGeometry<periodic>(terms, first, q, box, l);
+        if constexpr (angles)
+            angleGeometry<periodic>(terms, first, q, box, l);
+        else
+            bondGeometry<periodic>(terms, first, q, box, l);
         firstDerivatives(terms, first, l);
-        double firstX[B], firstY[B], firstZ[B], thirdX[B], thirdY[B], thirdZ[B];
-#pragma omp simd
-        for (int n = 0; n < B; n++) {
-            double onFirst = l.du[n]*l.scaleA[n], onThird = l.du[n]*l.scaleB[n], c = l.cosine[n];
-            firstX[n] = (l.bx[n]-l.ax[n]*c)*onFirst;
-            firstY[n] = (l.by[n]-l.ay[n]*c)*onFirst;
-            firstZ[n] = (l.bz[n]-l.az[n]*c)*onFirst;
-            thirdX[n] = (l.ax[n]-l.bx[n]*c)*onThird;
-            thirdY[n] = (l.ay[n]-l.by[n]*c)*onThird;
-            thirdZ[n] = (l.az[n]-l.bz[n]*c)*onThird;
-        }
-        for (int n = 0; n < B && first+n < terms.numTerms; n++) {
-            Vec3 onFirst, onThird;
-            if (l.acts[n] != 0.0) {
-                onFirst = Vec3(firstX[n], firstY[n], firstZ[n]);
-                onThird = Vec3(thirdX[n], thirdY[n], thirdZ[n]);
-            }
-            int t = first+n;
-            slots[3*t] = onFirst;
-            slots[3*t+1] = onThird;
-            slots[3*t+2] = onFirst+onThird;
-        }
+        if constexpr (angles)
+            angleForces(l, first, terms.numTerms, slots);
+        else
+            bondForces(l, first, terms.numTerms, slots);
     }
 }
 
@@ -191,10 +196,10 @@ using BlockPass = void (*)(const Terms&, const double*, const Box&, Vec3*, int, 
         blocks(terms, q, box, slots, begin, end);                                                               \
     }
 #define OPENMMDPD_BONDED_BLOCKS_FOR(suffix, target)                                      \
-    OPENMMDPD_BONDED_BLOCKS(periodicBondBlocks##suffix, bondBlocks<true>, target)        \
-    OPENMMDPD_BONDED_BLOCKS(openBondBlocks##suffix, bondBlocks<false>, target)           \
-    OPENMMDPD_BONDED_BLOCKS(periodicAngleBlocks##suffix, angleBlocks<true>, target)      \
-    OPENMMDPD_BONDED_BLOCKS(openAngleBlocks##suffix, angleBlocks<false>, target)
+    OPENMMDPD_BONDED_BLOCKS(periodicBondBlocks##suffix, (forceBlocks<true, false>), target)      \
+    OPENMMDPD_BONDED_BLOCKS(openBondBlocks##suffix, (forceBlocks<false, false>), target)         \
+    OPENMMDPD_BONDED_BLOCKS(periodicAngleBlocks##suffix, (forceBlocks<true, true>), target)      \
+    OPENMMDPD_BONDED_BLOCKS(openAngleBlocks##suffix, (forceBlocks<false, true>), target)
 OPENMMDPD_BONDED_BLOCKS_FOR(AVX512, OPENMMDPD_AVX512_TARGET)
 OPENMMDPD_BONDED_BLOCKS_FOR(AVX2, OPENMMDPD_AVX2_TARGET)
 OPENMMDPD_BONDED_BLOCKS_FOR(Generic, )
