@@ -1,6 +1,6 @@
 # Writes OUTPUT, a C++ header that holds the text of SOURCES (a ;-list of files), concatenated in order,
 # as the function OpenMMDPD::NAME() returning it: the kernel sources a compute platform compiles at
-# run time, and the formulas they share with host code (platforms/shared, DPDKernelDialect.h).
+# run time, and the formulas they share with host code (platforms/shared and openmmapi/include/openmmdpd/internal, DPDKernelDialect.h).
 # cmake -DOUTPUT=... -DNAME=... -DSOURCES="a|b" [-DPREFIX=...] -P EmbedKernelSources.cmake
 # Without NAME, OUTPUT is the plain text itself after PREFIX (a kernel source file for an ahead-of-time compiler).
 string(REPLACE "|" ";" SOURCES "${SOURCES}")

@@ -1,5 +1,5 @@
 #include "openmmdpd/DPDShearProfile.h"
-#include "openmmdpd/internal/DPDPeriodicBox.h"
+#include "openmmdpd/internal/DPDShearProfileFormulas.h"
 #include "openmm/OpenMMException.h"
 #include <cmath>
 #include <sstream>
@@ -32,15 +32,7 @@ std::string DPDShearProfile::shapeName(Shape shape) {
 }
 
 double DPDShearProfile::profile(double y, double L) const {
-    switch (shape) {
-        case Sinusoidal:
-            return std::sin(2*Pi*y/L);
-        case PiecewiseLinear:
-            return y <= 0.5*L ? 4.0/L*(y-0.25*L) : 4.0/L*(0.75*L-y);
-        case PiecewiseConstant:
-            return y <= 0.5*L ? 1.0 : -1.0;
-    }
-    return 0.0;
+    return dpdShearProfileForcing(shape, y, L);
 }
 
 double DPDShearProfile::getFirstFourierCoefficient() const {
@@ -52,17 +44,21 @@ double DPDShearProfile::getFirstFourierCoefficient() const {
     return 0.0;
 }
 
+void DPDShearProfile::requirePositiveMasses(const std::vector<double>& masses) const {
+    for (std::size_t i = 0; i < masses.size(); i++)
+        requirePositiveMass(masses, i); // every particle is forced
+}
+
 void DPDShearProfile::evaluate(const std::vector<Vec3>& positions, const Vec3* box, const std::vector<double>& masses,
                                std::vector<Vec3>& force, std::vector<Vec3>& response) const {
+    requirePositiveMasses(masses);
     std::size_t n = positions.size();
     force.assign(n, Vec3());
     response.assign(n, Vec3());
     double L = box[1][1];
     for (std::size_t i = 0; i < n; i++) {
-        double y = DPDPeriodicBox::wrapIntoBox(positions[i], box)[1];
-        double phase = 2*Pi*y/L;
-        requirePositiveMass(masses, i);
-        force[i] = Vec3(profile(y, L), 0, 0);
-        response[i] = Vec3((shape == PiecewiseLinear ? std::cos(phase) : std::sin(phase))/(masses[i]*n), 0, 0);
+        double y = dpdShearProfileHeight(positions[i][1], positions[i][2], L, box[2][1], box[2][2]);
+        force[i] = Vec3(dpdShearProfileForcing(shape, y, L), 0, 0);
+        response[i] = Vec3(dpdShearProfileResponse(shape, y, L, masses[i], static_cast<double>(n)), 0, 0);
     }
 }

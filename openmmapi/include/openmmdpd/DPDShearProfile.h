@@ -28,6 +28,8 @@ public:
                   std::vector<OpenMM::Vec3>& force, std::vector<OpenMM::Vec3>& response) const override;
     /** f(y) for y in [0, L_y). */
     double profile(double y, double boxHeight) const;
+    /** Every particle is forced: throws, naming the first, unless every mass is > 0. */
+    void requirePositiveMasses(const std::vector<double>& masses) const;
     /**
      * The component of F_1 = (1/L_y) int f(y) exp(2 i pi y / L_y) dy (eq. 88) that the response
      * measures: Im F_1 = 1/2 (sinusoidal), 2/pi (piecewise constant); Re F_1 = -4/pi^2 (piecewise linear).

@@ -6,6 +6,7 @@
 #include "CommonDPDStressAccumulator.h"
 #include "CommonDPDForcing.h"
 #include "CommonDPDLeesEdwards.h"
+#include "DPDConservativeVirial.h"
 #include "DPDSchemeState.h"
 #include "DPDStepBackend.h"
 #include "openmm/common/ComputeArray.h"
@@ -23,16 +24,17 @@ namespace OpenMMDPD {
  * grid (CommonDPDCellGrid), and the O sweeps run colour by colour, each block's pairs one after
  * another: the exact successive sweep of the host platforms, in the grid's order, reproducible bit
  * for bit.  Nothing is read back per step: a non-finite or runaway state is recorded on the device
- * and reported by checkSoundness() once per step() call, naming the first step at which it was seen.
+ * and reported once per step() call (takeFailedSteps), naming the first step at which it was seen, and
+ * so is a Norton projection whose F . G fails controllability.
  *
  * Lees-Edwards shear as on the host platforms (DPDLeesEdwardsFlow: the offset in the Context's box,
  * peculiar velocities, the exact sheared drift, molecules wrapped whole, the streaming difference in
  * every pair's relative velocity), the box set on the ComputeContext directly.  NEMD and Norton
  * forcing with the fields of DPDForcingFields kept on the device, and their scalars too (G . p, the
  * O sweep's G . Delta p^D, Norton's multipliers, the transport sums: keepsTransportScalars), read once
- * a step() call; a profile that depends on the positions (ShearProfile) is evaluated on the host from
- * downloaded positions.  Not yet on these platforms (refused with an
- * exception naming it): stress accumulation for a System with forces other than one DPDForce.
+ * a step() call; the shear profiles' fields are evaluated on the device from the positions.  Stress
+ * accumulation: the DPDForce's conservative part from its force pass, the other integrated forces' from
+ * DPDConservativeVirial at positions read back at the step's end (only where there are such forces).
  * Fusion (DPDStepFusion): a kick and the drift after it in the drift's launch.
  * The sweeps use the grid of the integrated DPDForce's evaluation at the same positions where its
  * cutoff covers the friction's, as the host platforms share its pair list.
@@ -62,7 +64,7 @@ public:
     bool sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& sweep, double kickDt) override;
     bool kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) override;
     void moveImages(double elapsed, bool wrap) override;
-    double evaluateForcingField() override;
+    std::optional<double> evaluateForcingField() override;
     double responseOfVelocities() const override;
     void applyForcingImpulse(double xi) override;
     bool keepsTransportScalars() const override { return true; }
@@ -84,8 +86,13 @@ public:
     void stateChanged(OpenMM::State::DataType changed);
     /** A step() call begins: its first step is the Context's next. */
     void beginCall() { firstStepOfCall = cc.getStepCount()+1; }
-    /** The first step of this call at which the device saw a non-finite or runaway state, or 0 (clears the record). */
-    long long takeFirstUnsoundStep();
+    /** What the device recorded in this call (0: nothing), the record then cleared. */
+    struct FailedSteps {
+        long long unsound = 0;        // the first step with a non-finite or runaway state
+        long long uncontrollable = 0; // the first step whose Norton projection had F . G = 0 or not finite ...
+        double uncontrollableForcingDotResponse = 0.0; // ... and that F . G
+    };
+    FailedSteps takeFailedSteps();
     /** The first particle (System index) whose position or velocity is not finite, or -1. */
     int firstNonFiniteParticle() const;
 
@@ -110,7 +117,8 @@ private:
     CommonDPDCalcForceKernel* sharedForceKernel = nullptr; // the integrated DPDForce (its grid, its force pass's virial)
     std::unique_ptr<CommonDPDStressAccumulator> stress;
     bool accumulateStress = false;
-    std::string forceWithoutStress; // an integrated force whose stress these platforms cannot take yet ("": none)
+    const OpenMM::ForceImpl* sharedForceImpl = nullptr;      // sharedForceKernel's force
+    std::unique_ptr<DPDConservativeVirial> otherForcesVirial; // the conservative stress of the integrated forces but that one
     CommonDPDKernel kickKernel, driftKernel, sweepKernel, gatherForcesKernel;
     std::unique_ptr<CommonDPDLeesEdwards> shear;
     std::unique_ptr<CommonDPDForcing> forcing;

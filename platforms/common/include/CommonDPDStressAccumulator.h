@@ -12,8 +12,10 @@ namespace OpenMMDPD {
  * The integrator's stress sums on the GPU platforms (dpdStress.cc): one sample per step of the
  * Irving-Kirkwood stress (Shang 2021 eq. 3.3) in the parts of DPDIntegrator::StressStatistics, as the
  * host platforms take it (DPDStressAccumulator): the kinetic part at the step's end, the conservative
- * part from the DPDForce's force pass at the step's evaluation, the dissipative and random parts from
- * the sweeps' pair updates.  Everything stays on the device; the statistics are read when asked.
+ * part from the DPDForce's force pass at the step's evaluation, plus the other forces' (DPDConservativeVirial,
+ * summed on the host from positions read back at the step's end: only where such forces are integrated), the
+ * dissipative and random parts from the sweeps' pair updates.  The sums stay on the device; the statistics
+ * are read when asked.
  * Nothing is computed unless the integrator asks for stress.
  */
 class CommonDPDStressAccumulator {
@@ -27,6 +29,8 @@ public:
     void addSweepColour(int rows);
     /** The step's conservative part: the sum of the DPDForce's per-particle virial rows (the latest evaluation's). */
     void takeConservative(OpenMM::ComputeArray& virialRows);
+    /** Add a conservative part summed on the host (xx, yy, zz, xy, xz, yz): the other forces' (DPDConservativeVirial). */
+    void addConservative(const double* tensor);
     /** After the step: the kinetic part at these velocities, then the sample into the statistics (pair parts times pairScale). */
     void endSample(double volume, double pairScale);
 
@@ -39,7 +43,7 @@ private:
     void download() const;
     OpenMM::ComputeContext& cc;
     CommonDPDKernel kineticTensor, sumRows, accumulate;
-    OpenMM::ComputeArray kineticRows, pairRows, stepSums, sums;
+    OpenMM::ComputeArray kineticRows, pairRows, stepSums, sums, hostConservative;
     mutable DPDIntegrator::StressStatistics hostCopy;
     long long steps = 0;
     bool uploadPending = false;

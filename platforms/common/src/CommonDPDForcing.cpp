@@ -8,7 +8,7 @@ using OpenMM::Vec3;
 CommonDPDForcing::CommonDPDForcing(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram& program, const OpenMM::System& system)
     : cc(cc), responseRowsKernel(program, "dpdResponseRows"), impulseKernel(program, "dpdApplyForcingImpulse"),
       sumRowsKernel(program, "dpdSumRows"), nortonImpulseKernel(program, "dpdApplyNortonImpulse"),
-      bookkeepingKernel(program, "dpdNortonBookkeeping") {
+      bookkeepingKernel(program, "dpdNortonBookkeeping"), shearProfileKernel(program, "dpdEvaluateShearProfile") {
     for (int i = 0; i < system.getNumParticles(); i++)
         masses.push_back(system.getParticleMass(i));
     OpenMM::ContextSelector selector(cc);
@@ -16,12 +16,27 @@ CommonDPDForcing::CommonDPDForcing(OpenMM::ComputeContext& cc, OpenMM::ComputePr
     cc.clearBuffer(registers);
 }
 
-double CommonDPDForcing::evaluate(OpenMM::ContextImpl& context, const DPDForcingProfile& profile) {
+void CommonDPDForcing::allocateFields() {
+    if (forcingField.isInitialized())
+        return;
+    int numAtoms = cc.getNumAtoms();
+    forcingField.initialize<double>(cc, 3*numAtoms, "dpdForcingField");
+    responseField.initialize<double>(cc, 3*numAtoms, "dpdResponseField");
+    responseRows.initialize<double>(cc, numAtoms, "dpdResponseRows");
+}
+
+std::optional<double> CommonDPDForcing::evaluate(OpenMM::ContextImpl& context, const DPDForcingProfile& profile,
+                                                 bool forcingDotResponseNeeded) {
     OpenMM::ContextSelector selector(cc);
+    allocateFields();
+    if (auto* shear = dynamic_cast<const DPDShearProfile*>(&profile)) {
+        evaluateShearProfile(*shear, forcingDotResponseNeeded);
+        return std::nullopt;
+    }
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     double forcingDotResponse;
-    if (profile.dependsOnPositions()) {
+    if (profile.dependsOnPositions()) { // a profile of the user's: its evaluate() is host code
         std::vector<Vec3> positions;
         context.getPositions(positions); // System order, as the profiles take them
         forcingDotResponse = fields.evaluate(profile, positions, box, masses);
@@ -32,11 +47,6 @@ double CommonDPDForcing::evaluate(OpenMM::ContextImpl& context, const DPDForcing
     }
     if (fields.getRevision() != uploadedRevision) {
         int numAtoms = cc.getNumAtoms();
-        if (!forcingField.isInitialized()) {
-            forcingField.initialize<double>(cc, 3*numAtoms, "dpdForcingField");
-            responseField.initialize<double>(cc, 3*numAtoms, "dpdResponseField");
-            responseRows.initialize<double>(cc, numAtoms, "dpdResponseRows");
-        }
         std::vector<double> values(3*numAtoms);
         for (int i = 0; i < numAtoms; i++)
             for (int k = 0; k < 3; k++)
@@ -54,6 +64,30 @@ double CommonDPDForcing::evaluate(OpenMM::ContextImpl& context, const DPDForcing
         forcingDotResponseUploaded = true;
     }
     return forcingDotResponse;
+}
+
+void CommonDPDForcing::evaluateShearProfile(const DPDShearProfile& profile, bool forcingDotResponseNeeded) {
+    int numAtoms = cc.getNumAtoms();
+    if (!shearMassesChecked) { // the System's masses do not change in a Context
+        profile.requirePositiveMasses(masses);
+        deviceMasses.initialize<double>(cc, numAtoms, "dpdForcingMasses");
+        deviceMasses.upload(masses);
+        shearMassesChecked = true;
+    }
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    int needed = forcingDotResponseNeeded ? 1 : 0;
+    if (cc.getUseMixedPrecision())
+        shearProfileKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), cc.getAtomIndexArray(), deviceMasses,
+                               static_cast<int>(profile.getShape()), box[1][1], box[2][1], box[2][2], forcingField, responseField, needed,
+                               responseRows);
+    else
+        shearProfileKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getAtomIndexArray(), deviceMasses, static_cast<int>(profile.getShape()),
+                               box[1][1], box[2][1], box[2][2], forcingField, responseField, needed, responseRows);
+    if (forcingDotResponseNeeded)
+        sumRows(responseRows, numAtoms, ForcingDotResponse);
+    uploadedRevision = -1;              // the device's fields are no longer DPDForcingFields' ...
+    forcingDotResponseUploaded = false; // ... nor its F . G
 }
 
 void CommonDPDForcing::sumRows(OpenMM::ComputeArray& rows, int count, Register target) {
@@ -95,11 +129,19 @@ void CommonDPDForcing::sumSweptResponse() {
     sumRows(blockResponse, numSweepRows, SweptResponse);
 }
 
-void CommonDPDForcing::projectOntoTarget(double target, bool counted) {
+void CommonDPDForcing::projectOntoTarget(double target, bool counted, OpenMM::ComputeArray& flags, int step) {
     OpenMM::ContextSelector selector(cc);
     sumResponseOfVelocities();
     int numAtoms = cc.getNumAtoms();
-    nortonImpulseKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getAtomIndexArray(), forcingField, registers, target, counted ? 1 : 0);
+    nortonImpulseKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getAtomIndexArray(), forcingField, registers, target, counted ? 1 : 0,
+                            flags, step);
+}
+
+double CommonDPDForcing::uncontrollableForcingDotResponse() const {
+    OpenMM::ContextSelector selector(cc);
+    std::vector<double> values(NumRegisters);
+    registers.download(values);
+    return values[UncontrollableForcingDotResponse];
 }
 
 void CommonDPDForcing::addDissipationToMultiplier() {

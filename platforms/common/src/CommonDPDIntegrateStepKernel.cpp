@@ -25,8 +25,10 @@ void CommonDPDIntegrateStepKernel::execute(OpenMM::ContextImpl& context, const D
     }
     if (moreStepsFollow)
         return;
-    long long unsoundStep = deviceBackend->takeFirstUnsoundStep(); // one small read per step() call
-    if (unsoundStep != 0)
+    CommonDPDStepBackend::FailedSteps failed = deviceBackend->takeFailedSteps(); // one small read per step() call
+    if (failed.uncontrollable != 0 && (failed.unsound == 0 || failed.uncontrollable <= failed.unsound))
+        throw OpenMM::OpenMMException(dynamics->uncontrollableMessage(failed.uncontrollableForcingDotResponse, failed.uncontrollable));
+    if (failed.unsound != 0)
         throw OpenMM::OpenMMException(dynamics->nonFiniteMessage("positions or velocities", deviceBackend->firstNonFiniteParticle(),
-                                                                 unsoundStep));
+                                                                 failed.unsound));
 }

@@ -23,11 +23,6 @@ constexpr double fixedPointScale = 4294967296.0; // OpenMM's fixed-point forces:
 enum SweepMode { OrnsteinUhlenbeck = 0, BBK = 1 }; // dpdPairSweep.cc
 constexpr int sweepLanes = 32; // one work-group of a warp's width per block (dpdPairSweep.cc)
 
-[[noreturn]] void notYetOnThisPlatform(const std::string& what) {
-    throw OpenMM::OpenMMException("DPDIntegrator: "+what+" is not available on the OpenCL and CUDA platforms yet; use the "
-                                  "CPU or Reference platform for it");
-}
-
 } // namespace
 
 /** OpenMM reordered the atoms (CommonDPDStepBackend::atomsWereReordered). */
@@ -64,7 +59,7 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     gatherForcesKernel = CommonDPDKernel(program, "dpdGatherDissipativeAndRandomForces");
     typeOf.initialize<int>(cc, system.getNumParticles(), "dpdFrictionTypes");
     storedForces.initialize<long long>(cc, 3*system.getNumParticles(), "dpdStoredForces");
-    flags.initialize<int>(cc, 1, "dpdUnsoundStep");
+    flags.initialize<int>(cc, 2, "dpdFailedSteps");
     cc.clearBuffer(flags);
     uploadFriction(integrator);
     Vec3 box[3];
@@ -83,13 +78,11 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
             continue;
         auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
         auto* kernel = forceImpl == nullptr ? nullptr : dynamic_cast<CommonDPDCalcForceKernel*>(&forceImpl->getKernel().getImpl());
-        if (kernel != nullptr && sharedForceKernel == nullptr)
+        if (kernel != nullptr && sharedForceKernel == nullptr) {
             sharedForceKernel = kernel;
-        else if (forceWithoutStress.empty())
-            forceWithoutStress = kernel != nullptr ? "a second DPDForce" : impl->getOwner().getName();
+            sharedForceImpl = impl;
+        }
     }
-    if (sharedForceKernel == nullptr && forceWithoutStress.empty())
-        forceWithoutStress = "no DPDForce";
 }
 
 void CommonDPDStepBackend::abandonStep() {
@@ -122,9 +115,13 @@ void CommonDPDStepBackend::uploadFriction(const DPDIntegrator& integrator) {
 }
 
 void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
-    if (integrator.getStressAccumulation() && !forceWithoutStress.empty())
-        notYetOnThisPlatform("stress accumulation (setStressAccumulation) with " + forceWithoutStress + " among the integrated forces");
     OpenMM::ContextSelector selector(cc);
+    if (integrator.getStressAccumulation()) { // before the step moves anything: throws for a force whose stress is not understood
+        if (!otherForcesVirial)
+            otherForcesVirial = std::make_unique<DPDConservativeVirial>(context, integrationGroups, sharedForceImpl);
+        else // updateParametersInContext and setParameter since the last sample
+            otherForcesVirial->refresh(context);
+    }
     forcedIntegrator = &integrator;
     kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
     if (integrator.getTable().getRevision() != frictionRevision) {
@@ -159,9 +156,10 @@ void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
             state.storedForcesValid = false;
     state.keepStoredForcesThroughStateChanges = false;
     accumulateStress = integrator.getStressAccumulation();
-    if (accumulateStress) { // the DPDForce's force pass gives the conservative part at the step's evaluation
+    if (accumulateStress) {
         stress->beginSample();
-        sharedForceKernel->setComputeVirial(true);
+        if (sharedForceKernel != nullptr) // its force pass gives its conservative part at the step's evaluation
+            sharedForceKernel->setComputeVirial(true);
     }
 }
 
@@ -193,22 +191,37 @@ int CommonDPDStepBackend::stepOfCall() const {
     return static_cast<int>(std::min<long long>(step, std::numeric_limits<int>::max()));
 }
 
-long long CommonDPDStepBackend::takeFirstUnsoundStep() {
+CommonDPDStepBackend::FailedSteps CommonDPDStepBackend::takeFailedSteps() {
     OpenMM::ContextSelector selector(cc);
-    int step;
-    flags.download(&step);
-    if (step == 0)
-        return 0;
+    int steps[2];
+    flags.download(steps);
+    FailedSteps failed;
+    if (steps[0] == 0 && steps[1] == 0)
+        return failed;
     cc.clearBuffer(flags);
-    return firstStepOfCall+step-1;
+    if (steps[0] != 0)
+        failed.unsound = firstStepOfCall+steps[0]-1;
+    if (steps[1] != 0) {
+        failed.uncontrollable = firstStepOfCall+steps[1]-1;
+        failed.uncontrollableForcingDotResponse = forcing->uncontrollableForcingDotResponse();
+    }
+    return failed;
 }
 
 void CommonDPDStepBackend::endStep(double stepSize, double stressScale) {
     if (accumulateStress) {
         OpenMM::ContextSelector selector(cc);
-        sharedForceKernel->setComputeVirial(false);
+        if (sharedForceKernel != nullptr)
+            sharedForceKernel->setComputeVirial(false);
         Vec3 box[3];
         cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        if (!otherForcesVirial->empty()) { // the other forces' part, at the step's end as on the host platforms
+            std::vector<Vec3> positions;
+            context.getPositions(positions); // System order: the one read back per step, only with such forces
+            double tensor[6] = {};
+            otherForcesVirial->add(positions, box, tensor);
+            stress->addConservative(tensor);
+        }
         stress->endSample(box[0][0]*box[1][1]*box[2][2], stressScale);
     }
     cc.setTime(cc.getTime()+stepSize);
@@ -245,7 +258,7 @@ void CommonDPDStepBackend::evaluateForces(bool keepForces, bool needPairs) {
     long long evaluationsBefore = sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0;
     context.calcForcesAndEnergy(true, false, integrationGroups);
     OpenMM::ContextSelector selector(cc);
-    if (accumulateStress) // the latest evaluation's conservative part is the step's
+    if (accumulateStress && sharedForceKernel != nullptr) // the latest evaluation's conservative part is the step's
         stress->takeConservative(sharedForceKernel->getVirialRows());
     if (friction.allValuesZero)
         pairsAtCurrentPositions = true; // no O sweep at zero friction, so no pair search either
@@ -396,8 +409,8 @@ void CommonDPDStepBackend::moveImages(double elapsed, bool wrap) {
     }
 }
 
-double CommonDPDStepBackend::evaluateForcingField() {
-    return forcing->evaluate(context, *forcedIntegrator->getForcingProfile());
+std::optional<double> CommonDPDStepBackend::evaluateForcingField() {
+    return forcing->evaluate(context, *forcedIntegrator->getForcingProfile(), forcedIntegrator->getForcingMode() == DPDIntegrator::Norton);
 }
 
 double CommonDPDStepBackend::responseOfVelocities() const {
@@ -409,7 +422,7 @@ void CommonDPDStepBackend::applyForcingImpulse(double xi) {
 }
 
 void CommonDPDStepBackend::projectOntoTarget(double target, bool counted) {
-    forcing->projectOntoTarget(target, counted);
+    forcing->projectOntoTarget(target, counted, flags, stepOfCall());
 }
 
 void CommonDPDStepBackend::addDissipationToMultiplier() {

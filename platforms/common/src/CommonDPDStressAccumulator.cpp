@@ -51,6 +51,13 @@ void CommonDPDStressAccumulator::takeConservative(OpenMM::ComputeArray& virialRo
     sumRows.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, cc.getNumAtoms(), 6, virialRows, stepSums, 6, 0);
 }
 
+void CommonDPDStressAccumulator::addConservative(const double* tensor) {
+    if (!hostConservative.isInitialized())
+        hostConservative.initialize<double>(cc, 6, "dpdHostConservativeStress");
+    hostConservative.upload(tensor);
+    sumRows.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, 1, 6, hostConservative, stepSums, 6, 1);
+}
+
 void CommonDPDStressAccumulator::endSample(double volume, double pairScale) {
     int numAtoms = cc.getNumAtoms();
     kineticTensor.run(numAtoms, -1, numAtoms, cc.getVelm(), kineticRows);

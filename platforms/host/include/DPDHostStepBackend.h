@@ -57,7 +57,7 @@ public:
     bool sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& sweep, double kickDt) override;
     bool kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) override;
     void moveImages(double elapsed, bool wrap) override;
-    double evaluateForcingField() override;
+    std::optional<double> evaluateForcingField() override;
     double responseOfVelocities() const override;
     void applyForcingImpulse(double xi) override;
     std::vector<OpenMM::Vec3> getStoredForces(OpenMM::Vec3* box) const override;

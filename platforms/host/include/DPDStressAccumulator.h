@@ -5,8 +5,7 @@
 #include "openmm/internal/ContextImpl.h"
 #include "openmm/Vec3.h"
 #include "openmmdpd/DPDIntegrator.h"
-#include "openmmdpd/internal/DPDBondedTerms.h"
-#include "openmmdpd/internal/DPDPairPotentialTerms.h"
+#include "DPDConservativeVirial.h"
 #include <memory>
 #include <vector>
 
@@ -16,11 +15,11 @@ namespace OpenMMDPD {
  * The integrator's running sums of the stress tensor (Irving-Kirkwood, Shang 2021 eq. 3.3),
  * sigma = -(1/V) [sum_i m_i u_i (x) u_i + sum_{i<j} r_ij (x) F_ij], one sample per step, in the parts
  * of DPDIntegrator::StressStatistics.  The pair parts of the dissipative and random forces come from
- * the pair sweeps (DPDPairStressSums); the conservative part is an own pair pass over the isotropic
- * pair potentials the Context computes for the integrated force groups (DPDPairPotentialTerms:
- * DPDForce and CustomNonbondedForce with their parameters in the Context, read again every sample),
- * plus the virial tensor of its bonds, angles and torsions (DPDBondedTerms); any other force makes
- * the first sample throw, before the step.  Nothing is computed unless the integrator asks for stress.
+ * the pair sweeps (DPDPairStressSums); the conservative part is DPDConservativeVirial's (an own pair
+ * pass over the isotropic pair potentials the Context computes for the integrated force groups,
+ * DPDForce and CustomNonbondedForce with their parameters in the Context, read again every sample,
+ * plus the virial tensor of its bonds, angles and torsions); any other force makes the first sample
+ * throw, before the step.  Nothing is computed unless the integrator asks for stress.
  */
 class DPDStressAccumulator {
 public:
@@ -55,8 +54,7 @@ private:
     DPDPairEngine* forcePassEngine = nullptr; // summing the shared DPDForce's part during the current step
     double forcePassSums[6] = {};
     long long evaluationsAtBegin = 0;
-    std::unique_ptr<DPDPairPotentialTerms> potential;
-    std::unique_ptr<DPDBondedTerms> bonded;
+    std::unique_ptr<DPDConservativeVirial> otherForces; // the conservative part of the forces no force pass sums
 };
 
 } // namespace OpenMMDPD

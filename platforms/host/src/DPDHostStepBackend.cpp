@@ -406,7 +406,7 @@ void DPDHostStepBackend::moveImages(double elapsed, bool wrap) {
         leesEdwards.wrapIntoPrimaryCell(current.positions, current.box);
 }
 
-double DPDHostStepBackend::evaluateForcingField() {
+std::optional<double> DPDHostStepBackend::evaluateForcingField() {
     ContextArrays current = arrays();
     return forcing.evaluate(*forcedIntegrator->getForcingProfile(), current.positions, current.box, masses);
 }

@@ -6,7 +6,7 @@
  * (DPDSplittingDynamics) and for the GPU kernels that keep them on the device (dpdForcing.cc).
  */
 #ifndef DPD_KERNEL_SOURCE // a kernel source has the dialect before this text
-#include "DPDKernelDialect.h"
+#include "openmmdpd/internal/DPDKernelDialect.h"
 #endif
 
 DPD_BEGIN_NAMESPACE

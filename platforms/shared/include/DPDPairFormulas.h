@@ -2,7 +2,7 @@
 #define OPENMMDPD_DPDPAIRFORMULAS_H_
 
 #ifndef DPD_KERNEL_SOURCE // a kernel source has the dialect before this text
-#include "DPDKernelDialect.h"
+#include "openmmdpd/internal/DPDKernelDialect.h"
 #endif
 
 /*

@@ -46,6 +46,11 @@ public:
      * unknown) found at `step`, for a backend that reports it after the step (the GPU platforms).
      */
     std::string nonFiniteMessage(const char* what, int particle, long long step) const;
+    /**
+     * The message of Norton's F . G failing controllability (Wu & Shang after eq. 13); step > 0: found
+     * at that step by a backend that reports it at the end of the call (the GPU platforms).
+     */
+    std::string uncontrollableMessage(double forcingDotResponse, long long step = 0) const;
     DPDStepBackend& getBackend() { return *backend; }
     const DPDStepBackend& getBackend() const { return *backend; }
 

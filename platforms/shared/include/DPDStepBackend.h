@@ -5,6 +5,7 @@
 #include "openmm/Vec3.h"
 #include "openmmdpd/DPDIntegrator.h"
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace OpenMMDPD {
@@ -81,8 +82,12 @@ public:
     /** Lees-Edwards: the image offset `elapsed` after the step's start; wrap: also the positions into the box. */
     virtual void moveImages(double elapsed, bool wrap) = 0;
 
-    /** NEMD, Norton: evaluate F(q), G(q) at the current positions; returns F . G. */
-    virtual double evaluateForcingField() = 0;
+    /**
+     * NEMD, Norton: evaluate F(q), G(q) at the current positions; returns F . G, or nothing where a
+     * backend that keepsTransportScalars evaluated the fields on its device and keeps F . G there (it
+     * then checks Norton's controllability there too, and reports a failure at the end of the call).
+     */
+    virtual std::optional<double> evaluateForcingField() = 0;
     /** R = G . p at the current velocities. */
     virtual double responseOfVelocities() const = 0;
     /** p += xi F. */

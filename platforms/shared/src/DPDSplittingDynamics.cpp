@@ -122,11 +122,18 @@ void DPDSplittingDynamics::execute(const DPDStepOperation& operation, const DPDF
         // continuation from a checkpoint finds them bit for bit.
         backend->moveImages(dt, operation.fraction == 1.0);
         return;
-    case Op::EvaluateForcingField:
-        forcingDotResponse = backend->evaluateForcingField();
+    case Op::EvaluateForcingField: {
+        std::optional<double> evaluated = backend->evaluateForcingField();
+        if (!evaluated.has_value()) { // F . G stays on the device, which checks it (DPDStepBackend::evaluateForcingField)
+            if (!backendHasTransport)
+                throw OpenMM::OpenMMException("DPDIntegrator: internal error: the backend kept F . G, but not Norton's scalars");
+            return;
+        }
+        forcingDotResponse = *evaluated;
         if (programOptions.forcing == DPDIntegrator::Norton)
             requireControllable(forcingDotResponse);
         return;
+    }
     case Op::ForcingImpulse:
         backend->applyForcingImpulse(dt*forcedIntegrator->getForcingStrength()); // + eta F dt (NEMD's B, Wu & Shang eq. 17)
         return;
@@ -207,10 +214,16 @@ void DPDSplittingDynamics::executeFused(const std::vector<DPDStepOperation>& ste
 
 double DPDSplittingDynamics::requireControllable(double fDotG) const {
     if (!(std::fabs(fDotG) > 0.0) || !std::isfinite(fDotG))
-        throw OpenMM::OpenMMException("DPDIntegrator: Norton dynamics needs F(q) . G(q) != 0 (controllability, Wu & Shang "
-                                      "after eq. 13), but the "+forcedIntegrator->getForcingProfile()->getType()+" profile gives "+
-                                      std::to_string(fDotG));
+        throw OpenMM::OpenMMException(uncontrollableMessage(fDotG));
     return fDotG;
+}
+
+std::string DPDSplittingDynamics::uncontrollableMessage(double fDotG, long long step) const {
+    std::string message = "DPDIntegrator: Norton dynamics needs F(q) . G(q) != 0 (controllability, Wu & Shang after eq. 13), but the "+
+                          forcedIntegrator->getForcingProfile()->getType()+" profile gives "+std::to_string(fDotG);
+    if (step > 0)
+        message += " at step "+std::to_string(step)+"; from there to the end of the step() call no Norton impulse was applied";
+    return message;
 }
 
 void DPDSplittingDynamics::throwNonFinite(const char* what, int particle, int stepOffset) const {

@@ -3,7 +3,9 @@
 // pressure, the sheared viscosity and sheared chains against the CPU, sheared runs' bits and checkpoints.
 
 #include "OpenCLTestSupport.h"
+#include "openmm/CustomExternalForce.h"
 #include "openmm/CustomNonbondedForce.h"
+#include "openmm/HarmonicAngleForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/VerletIntegrator.h"
@@ -79,6 +81,95 @@ TEST(OpenCLStress, AccumulatingStressLeavesTheTrajectoryAlone) {
             }
         }
         EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << scheme;
+    }
+}
+
+TEST(OpenCLStress, SamplesWithBondsAnglesAndACustomPairMatchReference) {
+    // A fluid of 5-bead chains (periodic HarmonicBondForce and HarmonicAngleForce) with an extra soft
+    // CustomNonbondedForce (whose cutoff makes OpenMM reorder the atoms): the conservative stress of
+    // those forces is DPDConservativeVirial's, at positions read back at each step's end, added to the
+    // DPDForce's from its force pass.  VV's samples do not depend on the pair order, so they must agree
+    // with Reference part by part, in double precision: the conservative part to 1e-9 of its largest
+    // entry, as for the DPDForce alone (fixed-point forces give ~1e-11); the velocity parts to 1e-6,
+    // because OpenMM's own OpenCL HarmonicAngleForce differs from its Reference by 3e-6 kJ/mol/nm here
+    // (measured with a VerletIntegrator, in double precision), which moves the velocities by ~1e-7.
+    // Accumulating stress must leave the trajectory alone.
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    System& system = *start.fluid.system;
+    auto* bonds = new HarmonicBondForce();
+    auto* angles = new HarmonicAngleForce();
+    for (int chain = 0; chain < 60; chain++)
+        for (int k = 0; k < 4; k++) {
+            bonds->addBond(5*chain+k, 5*chain+k+1, 0.5, 30.0);
+            if (k < 3)
+                angles->addAngle(5*chain+k, 5*chain+k+1, 5*chain+k+2, 2.6, 4.0);
+        }
+    bonds->setUsesPeriodicBoundaryConditions(true);
+    angles->setUsesPeriodicBoundaryConditions(true);
+    system.addForce(bonds);
+    system.addForce(angles);
+    auto* extra = new CustomNonbondedForce("5*(1-r/0.8)^2");
+    extra->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+    extra->setCutoffDistance(0.8);
+    for (int i = 0; i < system.getNumParticles(); i++)
+        extra->addParticle({});
+    system.addForce(extra);
+    std::vector<Vec3> positions = start.fluid.positions; // chains start compact: each bead near the previous one
+    for (int chain = 0; chain < 60; chain++)
+        for (int k = 1; k < 5; k++)
+            positions[5*chain+k] = positions[5*chain]+Vec3(0.45*k, 0.15*(k%2), 0.05*k); // bent: straight angles are ill-conditioned
+    Snapshot ends[2];
+    DPDIntegrator::StressStatistics sampled[2];
+    for (int p = 0; p < 2; p++) {
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::VV);
+        integrator.setRandomNumberSeed(78);
+        integrator.setStressAccumulation(true);
+        auto context = p == 0 ? openCLContext(system, integrator) : std::make_unique<Context>(system, integrator, platform("Reference"));
+        context->setPositions(positions);
+        context->setVelocities(start.velocities);
+        integrator.step(3);
+        ends[p] = snapshot(*context);
+        sampled[p] = integrator.getStressStatistics();
+    }
+    EXPECT_EQ(sampled[0].steps, 3);
+    std::printf("[ measured ] positions %.2g, velocities %.2g relative\n", maxAbsDifference(ends[0].positions, ends[1].positions),
+                relativeDifference(ends[0].velocities, ends[1].velocities));
+    std::vector<double> a = stressParts(sampled[0]), e = stressParts(sampled[1]);
+    const char* names[4] = {"kinetic", "conservative", "dissipative", "random"};
+    for (int part = 0; part < 4; part++) {
+        double scale = 0.0;
+        for (int k = 0; k < 9; k++)
+            scale = std::max(scale, std::fabs(e[9*part+k]));
+        ASSERT_GT(scale, 0.0) << names[part];
+        for (int k = 0; k < 9; k++)
+            EXPECT_NEAR(a[9*part+k], e[9*part+k], (part == 1 ? 1e-9 : 1e-6)*scale) << names[part] << " entry " << k;
+    }
+    // The same run without stress accumulation: the same bits.
+    DPDIntegrator alone(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::VV);
+    alone.setRandomNumberSeed(78);
+    auto plain = openCLContext(system, alone);
+    plain->setPositions(positions);
+    plain->setVelocities(start.velocities);
+    alone.step(3);
+    EXPECT_TRUE(bitIdentical(snapshot(*plain), ends[0])); // accumulating stress left the trajectory alone
+}
+
+TEST(OpenCLStress, AForceWhoseStressIsNotUnderstoodIsRefusedAsOnTheCPU) {
+    // The conservative stress of a force outside DPDConservativeVirial's terms (here an external field)
+    // is refused before the first step, naming the force, on OpenCL as on the CPU.
+    for (const char* platformName : {"CPU", "OpenCL"}) {
+        SoftFluid fluid = makeSoftFluid(300, 3.0);
+        auto* field = new CustomExternalForce("0.1*x");
+        for (int i = 0; i < fluid.system->getNumParticles(); i++)
+            field->addParticle(i, {});
+        fluid.system->addForce(field);
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::ABOBA);
+        integrator.setStressAccumulation(true);
+        auto context = std::string(platformName) == "CPU" ? makeContext(fluid, integrator, "CPU") : openCLContext(*fluid.system, integrator);
+        context->setPositions(fluid.positions);
+        std::vector<Vec3> before = snapshot(*context).positions;
+        EXPECT_TRUE(throwsMentioning([&] { integrator.step(1); }, {"force 1 (CustomExternalForce)", "not a potential"})) << platformName;
+        EXPECT_TRUE(bitIdentical(snapshot(*context).positions, before)) << platformName << ": the refused step moved the particles";
     }
 }
 

@@ -1,6 +1,6 @@
 // The OpenCL platform's NEMD and Norton dynamics (Wu & Shang; platforms/common, pocl on the CPU in CI):
-// Norton holding the response at its target to round-off, NEMD's response and Norton's forcing against
-// the CPU.
+// Norton holding the response at its target to round-off, the shear profiles evaluated on the device,
+// NEMD's response and Norton's forcing against the CPU.
 
 #include "OpenCLTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
@@ -23,9 +23,10 @@ class OpenCLNorton : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(OpenCLNorton, ResponseHeldAtTheTargetToRoundOff) {
     // Norton dynamics (Wu & Shang eqs. 52-70) on OpenCL in double precision: every projection sets
-    // G . p = r from the device's fixed-order sums, so R stays at r to round-off (1e-10 relative, as
-    // on the host platforms) over 2000 steps; a position-dependent profile (the sinusoidal shear
-    // profile) is evaluated from the downloaded positions.
+    // G . p = r from the device's fixed-order sums, so R, measured here with the profile's host
+    // evaluate(), stays at r to round-off (1e-10 relative, as on the host platforms) over 2000 steps.
+    // For the three shear profiles the device evaluates G (and F . G) itself from its positions
+    // (DPDShearProfileFormulas.h): a device G that differed from the host's would show here.
     std::unique_ptr<DPDForcingProfile> profile;
     double r = 0.05;
     if (GetParam() == "ColourDrift") {
@@ -33,7 +34,7 @@ TEST_P(OpenCLNorton, ResponseHeldAtTheTargetToRoundOff) {
         r = 0.5;
     }
     else
-        profile = std::make_unique<DPDShearProfile>(DPDShearProfile::Sinusoidal);
+        profile = std::make_unique<DPDShearProfile>(DPDShearProfile::shapeFromName(GetParam()));
     EquilibratedFluid start = equilibratedSoftFluid(300);
     DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.05, DPDIntegrator::ABOBA);
     integrator.setRandomNumberSeed(43);
@@ -51,7 +52,86 @@ TEST_P(OpenCLNorton, ResponseHeldAtTheTargetToRoundOff) {
     EXPECT_EQ(integrator.getTransportStatistics().steps, 2000);
 }
 
-INSTANTIATE_TEST_SUITE_P(Profiles, OpenCLNorton, ::testing::Values("ColourDrift", "sinusoidal"));
+INSTANTIATE_TEST_SUITE_P(Profiles, OpenCLNorton, ::testing::Values("ColourDrift", "sinusoidal", "piecewise_linear", "piecewise_constant"));
+
+TEST(OpenCLTransport, ShearProfilesOnTheDeviceDriveTheReferenceTrajectory) {
+    // Without friction an ABOBA step is deterministic (no O sweep), so NEMD with each shear profile on
+    // OpenCL in double precision must follow the Reference platform's trajectory to round-off: the
+    // device's F(q) (DPDShearProfileFormulas.h, from its own positions twice a step) is the host's.
+    // 20 steps at eta = 2, dt = 0.02 from an equilibrated fluid; the response sums too.  The bound, 1e-8,
+    // is the fixed-point forces' resolution (one step agrees to ~1e-11) grown over 20 steps; measured:
+    // ~1e-10.  A wrong F is off by eta dt |F| ~ 0.04 a step.
+    // The last case switches between a fixed profile, whose fields the host uploads once, and a shear
+    // profile, whose fields the device writes over them: 5 steps each, colour drift, sinusoidal, colour
+    // drift, piecewise constant.
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    for (const char* shapes : {"sinusoidal", "piecewise_linear", "piecewise_constant", "ColourDrift sinusoidal ColourDrift piecewise_constant"}) {
+        SCOPED_TRACE(shapes);
+        std::vector<std::string> phases;
+        std::istringstream names(shapes);
+        for (std::string name; names >> name;)
+            phases.push_back(name);
+        Snapshot end[2];
+        DPDIntegrator::TransportStatistics transport[2];
+        for (int p = 0; p < 2; p++) {
+            DPDIntegrator integrator(reducedTemperature, 0.0, 1.0, 0.02, DPDIntegrator::ABOBA);
+            integrator.setNEMD(DPDColourDrift(), 2.0);
+            auto context = p == 0 ? openCLContext(*start.fluid.system, integrator) : makeContext(start, integrator, "Reference");
+            context->setPositions(start.fluid.positions);
+            context->setVelocities(start.velocities);
+            for (const std::string& phase : phases) {
+                if (phase == "ColourDrift")
+                    integrator.setNEMD(DPDColourDrift(), 2.0);
+                else
+                    integrator.setNEMD(DPDShearProfile(DPDShearProfile::shapeFromName(phase)), 2.0);
+                integrator.step(20/static_cast<int>(phases.size()));
+            }
+            end[p] = snapshot(*context);
+            transport[p] = integrator.getTransportStatistics();
+        }
+        double velocities = relativeDifference(end[0].velocities, end[1].velocities);
+        double positions = maxAbsDifference(end[0].positions, end[1].positions);
+        std::printf("[ measured ] %s: velocities %.2g relative, positions %.2g, response sums %.6g and %.6g\n", shapes, velocities,
+                    positions, transport[0].responseSum, transport[1].responseSum);
+        EXPECT_LT(velocities, 1e-8);
+        EXPECT_LT(positions, 1e-8);
+        EXPECT_NEAR(transport[0].responseSum, transport[1].responseSum, 1e-8*std::fabs(transport[1].responseSum));
+        EXPECT_GT(std::fabs(transport[1].responseSum), 1e-3); // the forcing did drive a response
+    }
+}
+
+TEST(OpenCLTransport, UncontrollableShearIsReportedAtTheCallsEnd) {
+    // A fluid in the plane y = 0 stays there (every pair force lies in the plane), where the
+    // sinusoidal profile's F and G vanish: F . G = 0 fails Norton's controllability.  The host platforms
+    // refuse the first step; the device, which keeps F . G, applies no Norton impulse (nothing turns
+    // NaN) and the step() call throws at its end, naming the first step where it happened.
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    for (Vec3& position : start.fluid.positions)
+        position[1] = 0.0;
+    for (Vec3& velocity : start.velocities)
+        velocity[1] = 0.0;
+    for (const char* platformName : {"CPU", "OpenCL"}) {
+        SCOPED_TRACE(platformName);
+        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.005, DPDIntegrator::ABOBA);
+        integrator.setNorton(DPDShearProfile(DPDShearProfile::Sinusoidal), 0.05);
+        auto context = std::string(platformName) == "CPU" ? makeContext(start, integrator, "CPU")
+                                                          : openCLContext(*start.fluid.system, integrator);
+        context->setPositions(start.fluid.positions);
+        context->setVelocities(start.velocities);
+        if (std::string(platformName) == "CPU") {
+            EXPECT_TRUE(throwsMentioning([&] { integrator.step(3); }, {"controllability", "Shear", "gives 0"}));
+            continue;
+        }
+        EXPECT_TRUE(throwsMentioning([&] { integrator.step(3); }, {"controllability", "Shear", "gives 0", "at step 1;"}));
+        Snapshot after = snapshot(*context);
+        for (std::size_t i = 0; i < after.positions.size(); i++) {
+            ASSERT_TRUE(std::isfinite(after.velocities[i][0]) && std::isfinite(after.positions[i][0]));
+            ASSERT_EQ(after.positions[i][1], 0.0);
+        }
+        EXPECT_TRUE(std::isfinite(integrator.getTransportStatistics().forcingSum));
+        EXPECT_TRUE(throwsMentioning([&] { integrator.step(2); }, {"controllability", "at step 4;"})); // each call reports its own
+    }
+}
 
 TEST(OpenCLTransport, NEMDAndNortonAgreeWithTheCPU) {
     // Colour drift at N = 300, gamma = 4.5, ABOBA, dt = 0.05: NEMD's mean response to eta = 3 and

@@ -2,9 +2,11 @@
 #define OPENMMDPD_DPDKERNELDIALECT_H_
 
 /*
- * The small dialect in which the per-pair formulas (DPDPairFormulas.h) and the per-pair random
- * numbers (DPDPairRandom.h) are written once for host C++ and for the kernel sources that OpenMM's
- * compute layer compiles at run time (OpenCL C and CUDA).  A kernel source defines DPD_KERNEL_SOURCE
+ * The small dialect in which the per-pair formulas (DPDPairFormulas.h), the per-pair random numbers
+ * (DPDPairRandom.h), Norton's multipliers (DPDNortonFormulas.h) and the shear forcing profiles
+ * (DPDShearProfileFormulas.h) are written once for host C++ and for the kernel sources that OpenMM's
+ * compute layer compiles at run time (OpenCL C and CUDA).  It is the API layer's (the profiles are
+ * API classes); the platforms' formulas use it too.  A kernel source defines DPD_KERNEL_SOURCE
  * before it includes those files' text, after OpenMM's own definitions (DEVICE is __device__ on CUDA
  * and empty on OpenCL); host code includes them as ordinary headers.
  *
@@ -14,7 +16,7 @@
  *   DPD_U64(c)           a 64-bit unsigned literal
  *   DPD_BEGIN_NAMESPACE, DPD_END_NAMESPACE   namespace OpenMMDPD on the host, nothing in kernels
  *
- * The formulas call expm1, sqrt, log and cos unqualified: the host brings std's overloads into the
+ * The formulas call expm1, sqrt, log, sin, cos and floor unqualified: the host brings std's overloads into the
  * namespace, and OpenCL C and CUDA have them built in for float and double.  No structure in them has
  * a member function, and values are returned through plain structures built field by field.
  */
@@ -49,7 +51,9 @@ using dpd_uint32 = std::uint32_t;
 using dpd_int64 = std::int64_t;
 using std::cos;
 using std::expm1;
+using std::floor;
 using std::log;
+using std::sin;
 using std::sqrt;
 } // namespace OpenMMDPD
 #endif
