@@ -35,7 +35,8 @@ namespace OpenMMDPD {
  * a step() call; the shear profiles' fields are evaluated on the device from the positions.  Stress
  * accumulation: the DPDForce's conservative part from its force pass, the other integrated forces' from
  * DPDConservativeVirial at positions read back at the step's end (only where there are such forces).
- * Fusion (DPDStepFusion): a kick and the drift after it in the drift's launch.
+ * Fusion (DPDStepFusion): a kick and the drift after it in the drift's launch, and ABOBA's closing and
+ * opening half-drifts across a step's end where nothing can see the state between them.
  * The sweeps use the grid of the integrated DPDForce's evaluation at the same positions where its
  * cutoff covers the friction's, as the host platforms share its pair list.
  */
@@ -118,6 +119,7 @@ private:
     std::unique_ptr<CommonDPDStressAccumulator> stress;
     bool accumulateStress = false;
     const OpenMM::ForceImpl* sharedForceImpl = nullptr;      // sharedForceKernel's force
+    bool onlyForcesTheStepEvaluates = true;                   // every force is a potential of the step's evaluation
     std::unique_ptr<DPDConservativeVirial> otherForcesVirial; // the conservative stress of the integrated forces but that one
     CommonDPDKernel kickKernel, driftKernel, sweepKernel, gatherForcesKernel;
     std::unique_ptr<CommonDPDLeesEdwards> shear;

@@ -72,9 +72,9 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
             cellCursor.initialize<int>(cc, numCells, "dpdCellCursor");
         }
         numCellsAllocated = numCells;
+        cc.clearBuffer(cellCount); // once: from here on every scan leaves the counts it read at zero
     }
     int numAtoms = cc.getNumAtoms();
-    cc.clearBuffer(cellCount);
     if (cc.getUseMixedPrecision())
         locate.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
     else

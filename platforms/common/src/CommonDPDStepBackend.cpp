@@ -4,6 +4,7 @@
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
+#include "openmmdpd/internal/DPDBondedTerms.h"
 #include "openmmdpd/internal/DPDForceImpl.h"
 #include "openmm/common/ContextSelector.h"
 #include "openmm/common/IntegrationUtilities.h"
@@ -74,7 +75,15 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
         DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
     stress = std::make_unique<CommonDPDStressAccumulator>(cc, program);
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
-        if ((integrationGroups & (1 << impl->getOwner().getForceGroup())) == 0)
+        // A force outside the step's evaluation, or one that may act between steps (updateContextState:
+        // a CMMotionRemover, a barostat, a plugin's force), keeps the steps of a call apart.
+        const OpenMM::Force& force = impl->getOwner();
+        bool purePotential = dynamic_cast<DPDForceImpl*>(impl) != nullptr || DPDBondedTerms::understands(force) ||
+                             dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force) != nullptr ||
+                             dynamic_cast<const OpenMM::NonbondedForce*>(&force) != nullptr;
+        if ((integrationGroups & (1 << force.getForceGroup())) == 0 || !purePotential)
+            onlyForcesTheStepEvaluates = false;
+        if ((integrationGroups & (1 << force.getForceGroup())) == 0)
             continue;
         auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
         auto* kernel = forceImpl == nullptr ? nullptr : dynamic_cast<CommonDPDCalcForceKernel*>(&forceImpl->getKernel().getImpl());
@@ -231,10 +240,14 @@ void CommonDPDStepBackend::endStep(double stepSize, double stressScale) {
 
 DPDFusionSupport CommonDPDStepBackend::fusionSupport() const {
     // dpdDrift kicks first, with the same arithmetic as dpdKick: a kick and the drift after it are one
-    // launch (every scheme's closing B A or opening B A).  Nothing is kept across a step's end: ABOBA's
-    // closing and opening half-drifts could share a launch instead, but its closing kick already does.
+    // launch (every scheme's closing B A or opening B A).  It drifts `times` times: ABOBA's closing
+    // B A(h/2) and the next step's opening A(h/2) are one launch too, where nothing can see the state
+    // between the steps (one step(n) call, no stress sample, no force outside the step's evaluation,
+    // whose updateContextState would run between them, no shear: the sheared drift wraps at the step's end).
     DPDFusionSupport support;
     support.kickBeforeDrift = true;
+    support.repeatedDrift = !shear->flow().isSheared();
+    support.stepsMayShareWork = support.repeatedDrift && !accumulateStress && onlyForcesTheStepEvaluates;
     return support;
 }
 

@@ -28,7 +28,7 @@ struct DPDFusionSupport {
 struct DPDFusedOperation {
     enum Kind {
         Single,             // operation `first` alone; an EvaluateForces with keepForces leaves them in the engine
-        KickThenDrift,      // B then A, particle by particle in the drift's pass
+        KickThenDrift,      // B then A (count 3: A twice, the next step's opening drift too), particle by particle in the drift's pass
         RepeatedDrift,      // A twice (a step's closing half-drift and the next step's opening one)
         SweepBetweenKicks,  // B O B: the kicks in the sweep's gather and scatter, with the engine's kept forces (ABOBA eqs. 2.20-2.23)
         KeptForceKick       // [F^D + F^R] and B `kicks` times in the engine's pass that brings its kept forces to System order

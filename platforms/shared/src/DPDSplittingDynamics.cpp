@@ -182,11 +182,11 @@ void DPDSplittingDynamics::executeFused(const std::vector<DPDStepOperation>& ste
     switch (fused.kind) {
     case DPDFusedOperation::KickThenDrift: {
         bool velocitiesFinite = true;
-        int particle = backend->drift(operation(1).fraction*stepSize, 1, operation(0).fraction*stepSize, &velocitiesFinite);
+        int particle = backend->drift(operation(1).fraction*stepSize, fused.count-1, operation(0).fraction*stepSize, &velocitiesFinite);
         if (!velocitiesFinite)
             throwNonFinite("velocities", -1, 0);
         if (particle >= 0)
-            throwNonFinite("positions", particle, 0);
+            throwNonFinite("positions", particle, stepOffset); // the last drift's step
         return;
     }
     case DPDFusedOperation::RepeatedDrift:

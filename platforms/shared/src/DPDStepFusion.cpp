@@ -79,6 +79,11 @@ DPDFusedOperation DPDStepFusion::next(const std::vector<Op>& program, int positi
             at(program, position+1, support)->kind == Op::Drift && position+1 < static_cast<int>(program.size())) {
             fused.kind = DPDFusedOperation::KickThenDrift;
             fused.count = 2;
+            // The step's closing B A(h/2) and, across its end, the next step's opening A(h/2) (ABOBA).
+            const Op* following = at(program, position+2, support);
+            if (support.repeatedDrift && position+2 == static_cast<int>(program.size()) && following != nullptr &&
+                following->kind == Op::Drift && following->fraction == at(program, position+1, support)->fraction)
+                fused.count = 3;
         }
         return fused;
     case Op::DissipativeAndRandomForces:

@@ -28,6 +28,21 @@ DEVICE void dpdStorePosition(DPD_POSITIONS, int i, mixed4 position) {
 #endif
 }
 
+/**
+ * The position dpdStorePosition would write, read back (DPD_POSITION): in mixed precision the float
+ * posq plus its float correction, which keep fewer bits than a double.  A kernel that moves a particle
+ * twice in one launch rounds through it between the moves, so that it gives the bits of two launches.
+ */
+DEVICE mixed4 dpdAsStored(mixed4 position) {
+#ifdef USE_MIXED_PRECISION
+    real4 rounded = make_real4((real) position.x, (real) position.y, (real) position.z, 0);
+    return make_mixed4(rounded.x+(mixed) (real) (position.x-rounded.x), rounded.y+(mixed) (real) (position.y-rounded.y),
+                       rounded.z+(mixed) (real) (position.z-rounded.z), position.w);
+#else
+    return position;
+#endif
+}
+
 #if defined(__OPENCL_VERSION__)
 #define DPD_DOUBLE_BITS(x) as_long(x)
 #else
@@ -81,7 +96,7 @@ DEVICE int dpdNeighbourCell(int cx, int cy, int cz, int dx, int dy, int dz, int4
     return nx+numCells.x*(ny+numCells.y*nz);
 }
 
-/** Each particle's cell, and the number of particles in each cell (cellCount cleared before). */
+/** Each particle's cell, and the number of particles in each cell (cellCount zero before: the last scan left it so). */
 KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 boxSize, double4 inverseBoxSize, int4 numCells,
                                GLOBAL int* RESTRICT cellOf, GLOBAL int* RESTRICT cellCount) {
     for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
@@ -94,9 +109,10 @@ KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 boxSize, dou
 
 /**
  * The first slot of every cell (an exclusive scan of the counts; cellStart[numCells] = the total), in
- * one work-group of DPD_SCAN_SIZE threads, each scanning a contiguous chunk of cells.
+ * one work-group of DPD_SCAN_SIZE threads, each scanning a contiguous chunk of cells.  The counts are
+ * left at zero for the next build's dpdLocateParticles: no clearing launch per build.
  */
-KERNEL void dpdScanCellCounts(int numCells, GLOBAL const int* RESTRICT cellCount, GLOBAL int* RESTRICT cellStart,
+KERNEL void dpdScanCellCounts(int numCells, GLOBAL int* RESTRICT cellCount, GLOBAL int* RESTRICT cellStart,
                               GLOBAL int* RESTRICT cellCursor) {
     LOCAL int chunkStart[DPD_SCAN_SIZE];
     int chunk = (numCells+DPD_SCAN_SIZE-1)/DPD_SCAN_SIZE;
@@ -119,9 +135,11 @@ KERNEL void dpdScanCellCounts(int numCells, GLOBAL const int* RESTRICT cellCount
     SYNC_THREADS;
     int start = chunkStart[LOCAL_ID];
     for (int cell = begin; cell < end; cell++) {
+        int count = cellCount[cell];
         cellStart[cell] = start;
         cellCursor[cell] = start;
-        start += cellCount[cell];
+        start += count;
+        cellCount[cell] = 0;
     }
 }
 

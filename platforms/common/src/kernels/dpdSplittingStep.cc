@@ -86,6 +86,8 @@ KERNEL void dpdDrift(int numAtoms, DPD_POSITIONS, GLOBAL mixed4* RESTRICT velm, 
                 v.x -= (mixed) (shearRate*dt*v.y);
                 dx = (mixed) (v.x*dt);
             }
+            if (k+1 < times)
+                position = dpdAsStored(position); // as if each drift were its own launch
         }
         if (shearRate != 0.0)
             velm[i] = v;
