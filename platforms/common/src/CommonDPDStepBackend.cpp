@@ -4,7 +4,7 @@
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
-#include "openmmdpd/internal/DPDBondedTerms.h"
+#include "openmmdpd/internal/DPDPairPotentialTerms.h"
 #include "openmmdpd/internal/DPDForceImpl.h"
 #include "openmm/common/ContextSelector.h"
 #include "openmm/common/IntegrationUtilities.h"
@@ -76,14 +76,13 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     stress = std::make_unique<CommonDPDStressAccumulator>(cc, program);
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
         // A force outside the step's evaluation, or one that may act between steps (updateContextState:
-        // a CMMotionRemover, a barostat, a plugin's force), keeps the steps of a call apart.
+        // a CMMotionRemover, a barostat, a plugin's force), keeps the steps of a call apart: only the
+        // potentials the exact observables know (DPDForce, CustomNonbondedForce, bonded terms) may share.
         const OpenMM::Force& force = impl->getOwner();
-        bool purePotential = dynamic_cast<DPDForceImpl*>(impl) != nullptr || DPDBondedTerms::understands(force) ||
-                             dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force) != nullptr ||
-                             dynamic_cast<const OpenMM::NonbondedForce*>(&force) != nullptr;
-        if ((integrationGroups & (1 << force.getForceGroup())) == 0 || !purePotential)
-            onlyForcesTheStepEvaluates = false;
-        if ((integrationGroups & (1 << force.getForceGroup())) == 0)
+        bool integrated = (integrationGroups & (1 << force.getForceGroup())) != 0;
+        onlyForcesTheStepEvaluates &= integrated && DPDPairPotentialTerms::hasExactTerms(force, impl) &&
+                                      !DPDPairPotentialTerms::hasNoPotential(force);
+        if (!integrated)
             continue;
         auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
         auto* kernel = forceImpl == nullptr ? nullptr : dynamic_cast<CommonDPDCalcForceKernel*>(&forceImpl->getKernel().getImpl());
