@@ -1,11 +1,14 @@
 """Print one hash per pinned trajectory: each scheme on Reference and on CPU with 1, 2 and 16 threads,
 plain, as n x step(1), sheared, with stress accumulation, with bonds and angles, and with NEMD and
-Norton (ABOBA), plus a type-pair friction table and a checkpoint continuation.
+Norton (ABOBA), plus a type-pair friction table and a checkpoint continuation.  With ``--gpu OpenCL``
+(or CUDA) the hashes of that platform in single, mixed and double precision instead, with two more
+variants: a box of 7 cells a side (the grid's widest blocks) and a fluid dense enough that the O sweep's
+regions overflow local memory (the sweep's global-memory path).
 
 A refactoring that keeps the arithmetic keeps every line; compare two builds with
 ``diff <(python tools/trajectory-hashes.py) old-hashes.txt``.  The hash is SHA-256 over the final
 positions and velocities (float64, System order) and the step count; it depends on the machine's
-vector unit (AVX2 against AVX-512), so hashes are compared between builds on one machine only.
+vector unit (AVX2 against AVX-512) or GPU, so hashes are compared between builds on one machine only.
 """
 
 from __future__ import annotations
@@ -22,8 +25,8 @@ import openmmdpd as dpd
 STEPS = 40
 
 
-def fluid(bonded: bool) -> Tuple[openmm.System, np.ndarray]:
-    system, positions = dpd.soft_fluid(300, seed=3)
+def fluid(bonded: bool, num_particles: int = 300, density: float = 3.0) -> Tuple[openmm.System, np.ndarray]:
+    system, positions = dpd.soft_fluid(num_particles, density=density, seed=3)
     positions = positions.value_in_unit(positions.unit)
     if bonded:  # chains of 10 beads, bonds and angles across the periodic box
         box = system.getDefaultPeriodicBoxVectors()[0][0]._value
@@ -54,8 +57,10 @@ def digest(context: openmm.Context) -> str:
     return h.hexdigest()[:16]
 
 
-def run(scheme: str, platform: str, threads: int, variant: str) -> str:
-    system, positions = fluid(variant == "bonds")
+def run(scheme: str, platform: str, setting: str, variant: str) -> str:
+    """One trajectory's hash; `setting` is the CPU's thread count or a GPU platform's precision."""
+    sizes = {"7 cells": (1200, 3.0), "dense": (1200, 12.0)}
+    system, positions = fluid(variant == "bonds", *sizes.get(variant, (300, 3.0)))
     integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.04, scheme)
     integrator.setRandomNumberSeed(11)
     if variant == "type-pairs":
@@ -73,7 +78,7 @@ def run(scheme: str, platform: str, threads: int, variant: str) -> str:
         integrator.setNEMD(dpd.ColourDrift(), 2.0)
     if variant == "Norton":
         integrator.setNorton(dpd.ColourDrift(), 0.1)
-    properties = {"Threads": str(threads)} if platform == "CPU" else {}
+    properties = {"Threads": setting} if platform == "CPU" else {"Precision": setting} if platform != "Reference" else {}
     context = openmm.Context(system, integrator, openmm.Platform.getPlatformByName(platform), properties)
     context.setPositions(positions)
     dpd.set_velocities_to_temperature(context, dpd.REDUCED_TEMPERATURE, seed=5)
@@ -91,18 +96,26 @@ def run(scheme: str, platform: str, threads: int, variant: str) -> str:
     return digest(context)
 
 
-def configurations() -> Iterator[Tuple[str, str, int, str]]:
+def configurations(gpu: str) -> Iterator[Tuple[str, str, str, str]]:
     variants = ["step(n)", "step(1)", "sheared", "stress", "bonds", "type-pairs", "checkpoint"]
     for scheme in dpd.SCHEMES:
-        for variant in variants + (["NEMD", "Norton"] if scheme == "ABOBA" else []):
-            yield scheme, "Reference", 1, variant
-            for threads in (1, 2, 16):
+        for variant in variants + (["NEMD", "Norton"] if scheme == "ABOBA" else []) + (["7 cells", "dense"] if gpu else []):
+            if gpu:
+                for precision in ("single", "mixed", "double"):
+                    yield scheme, gpu, precision, variant
+                continue
+            yield scheme, "Reference", "1", variant
+            for threads in ("1", "2", "16"):
                 yield scheme, "CPU", threads, variant
 
 
 def main() -> int:
-    for scheme, platform, threads, variant in configurations():
-        print(f"{scheme:6s} {platform:9s} {threads:2d} {variant:11s} {run(scheme, platform, threads, variant)}", flush=True)
+    gpu = sys.argv[2] if len(sys.argv) == 3 and sys.argv[1] == "--gpu" else ""
+    if len(sys.argv) > 1 and not gpu:
+        print("usage: trajectory-hashes.py [--gpu OpenCL|CUDA]", file=sys.stderr)
+        return 2
+    for scheme, platform, setting, variant in configurations(gpu):
+        print(f"{scheme:6s} {platform:9s} {setting:>{6 if gpu else 2}s} {variant:11s} {run(scheme, platform, setting, variant)}", flush=True)
     return 0
 
 

@@ -5,6 +5,7 @@
 #define KERNEL extern "C" __global__
 #define DEVICE __device__
 #define LOCAL __shared__
+#define LOCAL_ARG
 #define GLOBAL
 #define RESTRICT __restrict__
 #define LOCAL_ID threadIdx.x
@@ -44,4 +45,14 @@ typedef double4 mixed4;
 #define NUM_ATOMS 1000
 #define PADDED_NUM_ATOMS 1024
 #define DPD_SCAN_SIZE 256
+// CommonDPDProgram::compile's sweep sizes (maxBlockWidth 4; sweepCapacity's default): ptxas refuses a
+// kernel whose static shared memory passes CUDA's 48 KiB, so this also checks the capacity fits.
+#define DPD_SWEEP_MAX_BLOCK_CELLS 64
+#define DPD_SWEEP_MAX_REGION_CELLS 180
+#define DPD_SWEEP_LANES 64
+#if defined(DPD_PRECISION_SINGLE)
+#define DPD_SWEEP_CAPACITY 711
+#else
+#define DPD_SWEEP_CAPACITY 426
+#endif
 #define DPD_KERNEL_SOURCE

@@ -47,13 +47,20 @@ public:
     OpenMM::ComputeArray& getCellOf() { return cellOf; }
     OpenMM::ComputeArray& getCellStart() { return cellStart; }
     OpenMM::ComputeArray& getCellAtoms() { return cellAtoms; }
-    /** The threads of the scan's one work-group (DPD_SCAN_SIZE in the kernel source). */
+    /**
+     * The widest block, in cells: layOut makes blocks of cells/b cells along an axis, with b the largest
+     * even number at most cells/2 (or 1 for 3 cells), so 2 or 3 cells wide, and 4 only for 7 cells.
+     */
+    static constexpr int maxBlockWidth = 4;
+    /** The threads of a work-group of the scan (DPD_SCAN_SIZE in the kernel source). */
     static constexpr int scanSize = 256;
+    /** The cells of one work-group's tile of the scan (DPD_SCAN_TILE in the kernel source). */
+    static constexpr int scanTile = 8*scanSize;
 
 private:
     OpenMM::ComputeContext& cc;
-    CommonDPDKernel locate, scan, scatter, sort;
-    OpenMM::ComputeArray cellOf, cellCount, cellStart, cellCursor, cellAtoms;
+    CommonDPDKernel locate, sumTiles, scan, scatter, sort;
+    OpenMM::ComputeArray cellOf, cellCount, cellStart, cellCursor, cellAtoms, tileSum;
     Layout layout;
     double radius = 0.0;
     OpenMM::mm_double4 boxSize, inverseBoxSize;

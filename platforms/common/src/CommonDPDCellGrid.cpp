@@ -33,6 +33,8 @@ CommonDPDCellGrid::Layout CommonDPDCellGrid::layOut(const Vec3* box, double radi
         blocks[k] = cells[k]/2;
         if (blocks[k] % 2 == 1)
             blocks[k] = blocks[k] == 1 ? 1 : blocks[k]-1;
+        if ((cells[k]+blocks[k]-1)/blocks[k] > maxBlockWidth) // the sweep's local arrays are sized by it
+            throw OpenMM::OpenMMException(std::string(owner)+": internal error: a cell grid block wider than maxBlockWidth");
     }
     layout.numCells = OpenMM::mm_int4(cells[0], cells[1], cells[2], cells[0]*cells[1]*cells[2]);
     layout.numBlocks = OpenMM::mm_int4(blocks[0], blocks[1], blocks[2], blocks[0]*blocks[1]*blocks[2]);
@@ -45,6 +47,7 @@ CommonDPDCellGrid::Layout CommonDPDCellGrid::layOut(const Vec3* box, double radi
 
 CommonDPDCellGrid::CommonDPDCellGrid(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program) : cc(cc) {
     locate = CommonDPDKernel(program, "dpdLocateParticles");
+    sumTiles = CommonDPDKernel(program, "dpdSumCellTiles");
     scan = CommonDPDKernel(program, "dpdScanCellCounts");
     scatter = CommonDPDKernel(program, "dpdScatterParticles");
     sort = CommonDPDKernel(program, "dpdSortCells");
@@ -71,6 +74,11 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
             cellStart.initialize<int>(cc, numCells+1, "dpdCellStart");
             cellCursor.initialize<int>(cc, numCells, "dpdCellCursor");
         }
+        int numTiles = (numCells+scanTile-1)/scanTile;
+        if (tileSum.isInitialized())
+            tileSum.resize(numTiles);
+        else
+            tileSum.initialize<int>(cc, numTiles, "dpdTileSum");
         numCellsAllocated = numCells;
         cc.clearBuffer(cellCount); // once: from here on every scan leaves the counts it read at zero
     }
@@ -79,7 +87,10 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
         locate.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
     else
         locate.run(numAtoms, -1, numAtoms, cc.getPosq(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
-    scan.run(scanSize, scanSize, numCells, cellCount, cellStart, cellCursor);
+    int numTiles = (numCells+scanTile-1)/scanTile;
+    if (numTiles > 1)
+        sumTiles.run(numTiles*scanSize, scanSize, numCells, cellCount, tileSum);
+    scan.run(numTiles*scanSize, scanSize, numCells, numTiles, cellCount, tileSum, cellStart, cellCursor);
     scatter.run(numAtoms, -1, numAtoms, cellOf, cellCursor, cellAtoms);
     sort.run(numCells, -1, numCells, cellStart, cellAtoms, cc.getAtomIndexArray());
 }

@@ -4,6 +4,7 @@
 #include "DPDKernelSources.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
+#include <cstdlib>
 #include <map>
 #include <string>
 
@@ -17,9 +18,32 @@ OpenMM::ComputeProgram CommonDPDProgram::compile(OpenMM::ComputeContext& cc, con
     defines["NUM_ATOMS"] = cc.intToString(cc.getNumAtoms());
     defines["PADDED_NUM_ATOMS"] = cc.intToString(cc.getPaddedNumAtoms());
     defines["DPD_SCAN_SIZE"] = cc.intToString(CommonDPDCellGrid::scanSize);
+    int width = CommonDPDCellGrid::maxBlockWidth; // a block's region: one cell more either side in x and y, one above in z
+    defines["DPD_SWEEP_MAX_BLOCK_CELLS"] = cc.intToString(width*width*width);
+    defines["DPD_SWEEP_MAX_REGION_CELLS"] = cc.intToString((width+2)*(width+2)*(width+1));
+    defines["DPD_SWEEP_CAPACITY"] = cc.intToString(sweepCapacity(cc));
+    defines["DPD_SWEEP_LANES"] = cc.intToString(sweepLanes);
     defines["DPD_KERNEL_SOURCE"] = "";
     std::string source = std::string("#if defined(__OPENCL_VERSION__)\n#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n#endif\n")+
                          pairFormulasKernelSource()+commonDPDKernelSource();
     OpenMM::ContextSelector selector(cc);
     return cc.compileProgram(source, defines);
+}
+
+int CommonDPDProgram::sweepCapacity(OpenMM::ComputeContext& cc) {
+    if (const char* setting = std::getenv("OPENMMDPD_GPU_SWEEP_CAPACITY")) {
+        char* end = nullptr;
+        long capacity = std::strtol(setting, &end, 10);
+        if (end == setting || *end != '\0' || capacity < 0 || capacity > 100000)
+            throw OpenMM::OpenMMException(std::string("OPENMMDPD_GPU_SWEEP_CAPACITY is '")+setting+
+                                          "': it must be a whole number of particles from 0 to 100000");
+        return static_cast<int>(capacity);
+    }
+    // dpdSweepColour's local arrays: the region's cells and the block's (ints), the lanes' sums, a chunk of
+    // pairs (two ints and eight doubles each), and per particle four ints and two mixed4 (position, velocity).
+    int width = CommonDPDCellGrid::maxBlockWidth;
+    int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+sweepLanes);
+    int pairBytes = 64*(2*4+8*8);
+    int particleBytes = 4*4+2*(cc.getUseDoublePrecision() || cc.getUseMixedPrecision() ? 32 : 16);
+    return (40*1024-cellBytes-pairBytes)/particleBytes;
 }

@@ -22,7 +22,6 @@ namespace {
 
 constexpr double fixedPointScale = 4294967296.0; // OpenMM's fixed-point forces: 2^32 units per kJ/mol/nm
 enum SweepMode { OrnsteinUhlenbeck = 0, BBK = 1 }; // dpdPairSweep.cc
-constexpr int sweepLanes = 32; // one work-group of a warp's width per block (dpdPairSweep.cc)
 
 } // namespace
 
@@ -343,14 +342,14 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
         if (!layout.colourIsUsed(colour))
             continue;
         if (cc.getUseMixedPrecision())
-            sweepKernel.run(layout.blocksPerColour*sweepLanes, sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
+            sweepKernel.run(layout.blocksPerColour*CommonDPDProgram::sweepLanes, CommonDPDProgram::sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(),
                             grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
                             friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, gatherStress,
                             blockStress, shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs,
                             n*layout.blocksPerColour);
         else
-            sweepKernel.run(layout.blocksPerColour*sweepLanes, sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
+            sweepKernel.run(layout.blocksPerColour*CommonDPDProgram::sweepLanes, CommonDPDProgram::sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(),
                             cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
                             request.dt, key, mode, request.reversed ? 1 : 0, gatherStress, blockStress,

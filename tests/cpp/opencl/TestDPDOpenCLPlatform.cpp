@@ -36,6 +36,18 @@ void makeTwoSpecies(System& system, DPDIntegrator* integrator) {
         integrator->addTypePair(0, 1, 9.0, 1.0);
 }
 
+/** Whether an ABOBA Context for the fluid on the GPU platform under test throws by its first step, naming each fragment. */
+::testing::AssertionResult firstStepRaisesMentioning(const SoftFluid& fluid, const std::vector<std::string>& fragments) {
+    DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::ABOBA);
+    return throwsMentioning(
+        [&] {
+            auto context = openCLContext(*fluid.system, integrator);
+            context->setPositions(fluid.positions);
+            integrator.step(1);
+        },
+        fragments);
+}
+
 } // namespace
 
 class OpenCLPrecision : public ::testing::TestWithParam<std::string> {};
@@ -68,6 +80,24 @@ TEST_P(OpenCLPrecision, ForcesAndEnergyMatchReference) {
 
 INSTANTIATE_TEST_SUITE_P(Precisions, OpenCLPrecision, ::testing::Values("double", "mixed", "single"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+TEST(OpenCLPlatform, CellGridOfSeveralScanTilesFindsEveryPair) {
+    // The scan of the cell counts runs a work-group per tile of 2048 cells (CommonDPDCellGrid::scanTile),
+    // each tile starting after the tiles before it: N = 7500 at density 3 has 13^3 = 2197 cells, two
+    // tiles.  A tile started in the wrong place would lose or misplace the particles of its cells, and the
+    // forces would not be Reference's (double precision: to 1e-10, as for one tile above).
+    SoftFluid fluid = makeSoftFluid(7500, 3.0, 6);
+    ASSERT_GT(std::pow(std::floor(fluid.boxLength), 3), 2048.0);
+    VerletIntegrator reference(0.01), device(0.01);
+    Context referenceContext(*fluid.system, reference, platform("Reference"));
+    auto deviceContext = openCLContext(*fluid.system, device, "double");
+    referenceContext.setPositions(fluid.positions);
+    deviceContext->setPositions(fluid.positions);
+    State expected = referenceContext.getState(State::Forces | State::Energy);
+    State actual = deviceContext->getState(State::Forces | State::Energy);
+    EXPECT_LT(relativeDifference(actual.getForces(), expected.getForces()), 1e-10);
+    EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-10*std::fabs(expected.getPotentialEnergy()));
+}
 
 TEST(OpenCLPlatform, VelocityVerletStepMatchesReference) {
     // VV's F^D + F^R read the velocities before any update, so its step does not depend on the pair
@@ -221,6 +251,70 @@ TEST(OpenCLPlatform, StepNAndNSingleStepsGiveTheSameBits) {
     }
 }
 
+namespace {
+
+/** OPENMMDPD_GPU_SWEEP_CAPACITY set for the Contexts made while it lives, and unset after. */
+class SweepCapacitySetting {
+public:
+    explicit SweepCapacitySetting(const char* value) { setenv("OPENMMDPD_GPU_SWEEP_CAPACITY", value, 1); }
+    ~SweepCapacitySetting() { unsetenv("OPENMMDPD_GPU_SWEEP_CAPACITY"); }
+};
+
+} // namespace
+
+TEST(OpenCLPlatform, SweepsHeldInLocalMemoryAndInGlobalMemoryGiveTheSameBits) {
+    // The O and BBK sweeps hold each block's region (its particles and the partners they reach) in local
+    // memory, and sweep a region too big for it (a dense cluster) in global memory instead: the same
+    // pairs, numbers and updates in the same order.  With the capacity at 0 every region takes the
+    // global path; the trajectories, the stress sums and Norton's sums must be the same bits.  A box of
+    // 7 cells a side has the grid's widest blocks (3 and 4 cells); a mixture gives two pair types;
+    // BAOOAB's second sweep runs backwards.
+    EquilibratedFluid start = equilibratedSoftFluid(1200);
+    makeTwoSpecies(*start.fluid.system, nullptr);
+    for (const char* scheme : {"ABOBA", "S1", "BAOOAB", "ABOBA+Norton"}) {
+        std::string name = scheme;
+        Snapshot runs[2];
+        DPDIntegrator::StressStatistics stress[2];
+        DPDIntegrator::TransportStatistics transport[2];
+        for (int global = 0; global < 2; global++) {
+            std::unique_ptr<SweepCapacitySetting> setting;
+            if (global == 1)
+                setting = std::make_unique<SweepCapacitySetting>("0");
+            DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, name == "ABOBA+Norton" ? "ABOBA" : scheme);
+            integrator.setRandomNumberSeed(8);
+            for (int i = start.fluid.system->getNumParticles()/2; i < start.fluid.system->getNumParticles(); i++)
+                integrator.setParticleType(i, 1);
+            integrator.addTypePair(0, 1, 9.0, 1.0);
+            integrator.setStressAccumulation(true);
+            if (name == "ABOBA+Norton")
+                integrator.setNorton(DPDColourDrift(), 0.05);
+            auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+            context->setPositions(start.fluid.positions);
+            context->setVelocities(start.velocities);
+            integrator.step(25);
+            runs[global] = snapshot(*context);
+            stress[global] = integrator.getStressStatistics();
+            transport[global] = integrator.getTransportStatistics();
+        }
+        EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << scheme;
+        for (int k = 0; k < 9; k++) {
+            EXPECT_EQ(stress[0].dissipative[k], stress[1].dissipative[k]) << scheme << " dissipative stress " << k;
+            EXPECT_EQ(stress[0].random[k], stress[1].random[k]) << scheme << " random stress " << k;
+        }
+        EXPECT_EQ(transport[0].forcingSum, transport[1].forcingSum) << scheme;
+        EXPECT_EQ(transport[0].responseSum, transport[1].responseSum) << scheme;
+    }
+}
+
+TEST(OpenCLPlatform, SweepCapacityOutOfRangeRaisesNamingIt) {
+    SoftFluid fluid = makeSoftFluid(300, 3.0);
+    for (const char* value : {"-1", "lots", "100001"}) {
+        SweepCapacitySetting setting(value);
+        EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_CAPACITY is '", "a whole number of particles from 0 to 100000"}))
+            << value;
+    }
+}
+
 TEST(OpenCLPlatform, PerTypeParametersSurviveOpenMMsAtomReordering) {
     // A cutoff CustomNonbondedForce (zero energy) makes OpenMM reorder the atoms every 250 steps.  After
     // 600 steps, the DPDForce's two-species forces must still be those Reference computes at the same
@@ -281,14 +375,8 @@ TEST(OpenCLPlatform, WhatThePlatformCannotDoRaisesNamingIt) {
     SoftFluid fluid = makeSoftFluid(300, 3.0);
     double L = fluid.boxLength;
     fluid.system->setDefaultPeriodicBoxVectors(Vec3(L, 0, 0), Vec3(0, L, 0), Vec3(0.3*L, 0, L));
-    DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::ABOBA);
-    EXPECT_TRUE(throwsMentioning(
-        [&] {
-            auto context = openCLContext(*fluid.system, integrator);
-            context->setPositions(fluid.positions);
-            integrator.step(1);
-        },
-        {"the OpenCL and CUDA platforms need a rectangular periodic box or the Lees-Edwards box", "use the CPU or Reference platform"}));
+    EXPECT_TRUE(firstStepRaisesMentioning(
+        fluid, {"the OpenCL and CUDA platforms need a rectangular periodic box or the Lees-Edwards box", "use the CPU or Reference platform"}));
 }
 
 TEST(OpenCLPlatform, BoxNarrowerThanThreeCutoffsRaises) {

@@ -107,39 +107,75 @@ KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 boxSize, dou
     }
 }
 
-/**
- * The first slot of every cell (an exclusive scan of the counts; cellStart[numCells] = the total), in
- * one work-group of DPD_SCAN_SIZE threads, each scanning a contiguous chunk of cells.  The counts are
- * left at zero for the next build's dpdLocateParticles: no clearing launch per build.
+/*
+ * The first slot of every cell: an exclusive scan of the counts in tiles of DPD_SCAN_TILE cells, one
+ * work-group of DPD_SCAN_SIZE threads a tile, so that the whole device takes part however many cells
+ * there are (one work-group for all of them made a large grid's scan a serial pass).  With more than
+ * one tile, dpdSumCellTiles first writes each tile's total; dpdScanCellCounts then starts each tile
+ * after the totals of the tiles before it.  Integer sums only: the result does not depend on the order.
  */
-KERNEL void dpdScanCellCounts(int numCells, GLOBAL int* RESTRICT cellCount, GLOBAL int* RESTRICT cellStart,
-                              GLOBAL int* RESTRICT cellCursor) {
-    LOCAL int chunkStart[DPD_SCAN_SIZE];
-    int chunk = (numCells+DPD_SCAN_SIZE-1)/DPD_SCAN_SIZE;
-    int begin = LOCAL_ID*chunk < numCells ? LOCAL_ID*chunk : numCells;
-    int end = begin+chunk < numCells ? begin+chunk : numCells;
-    int sum = 0;
-    for (int cell = begin; cell < end; cell++)
-        sum += cellCount[cell];
-    chunkStart[LOCAL_ID] = sum;
+#define DPD_SCAN_CELLS_PER_THREAD 8
+#define DPD_SCAN_TILE (DPD_SCAN_SIZE*DPD_SCAN_CELLS_PER_THREAD)
+
+/**
+ * The sum of the work-group's values before this thread's (every thread calls it with its value;
+ * Hillis-Steele in `sums`, one entry a thread); sums[LOCAL_SIZE-1] then holds the work-group's total.
+ */
+DEVICE int dpdExclusiveScanOfWorkGroup(int value, LOCAL_ARG int* sums) {
+    SYNC_THREADS; // a previous scan's total may still be being read
+    sums[LOCAL_ID] = value;
     SYNC_THREADS;
-    if (LOCAL_ID == 0) {
-        int total = 0;
-        for (int k = 0; k < DPD_SCAN_SIZE; k++) {
-            int count = chunkStart[k];
-            chunkStart[k] = total;
-            total += count;
-        }
-        cellStart[numCells] = total;
+    for (int offset = 1; offset < LOCAL_SIZE; offset *= 2) {
+        int before = LOCAL_ID >= offset ? sums[LOCAL_ID-offset] : 0;
+        SYNC_THREADS;
+        sums[LOCAL_ID] += before;
+        SYNC_THREADS;
     }
-    SYNC_THREADS;
-    int start = chunkStart[LOCAL_ID];
-    for (int cell = begin; cell < end; cell++) {
-        int count = cellCount[cell];
-        cellStart[cell] = start;
-        cellCursor[cell] = start;
-        start += count;
-        cellCount[cell] = 0;
+    return sums[LOCAL_ID]-value;
+}
+
+/** Each tile's number of particles (a grid of more than one tile). */
+KERNEL void dpdSumCellTiles(int numCells, GLOBAL const int* RESTRICT cellCount, GLOBAL int* RESTRICT tileSum) {
+    LOCAL int sums[DPD_SCAN_SIZE];
+    for (int tile = GROUP_ID; tile*DPD_SCAN_TILE < numCells; tile += NUM_GROUPS) {
+        int end = (tile+1)*DPD_SCAN_TILE < numCells ? (tile+1)*DPD_SCAN_TILE : numCells, sum = 0;
+        for (int cell = tile*DPD_SCAN_TILE+LOCAL_ID; cell < end; cell += DPD_SCAN_SIZE)
+            sum += cellCount[cell];
+        int before = dpdExclusiveScanOfWorkGroup(sum, sums);
+        if (LOCAL_ID == DPD_SCAN_SIZE-1)
+            tileSum[tile] = before+sum;
+    }
+}
+
+/**
+ * cellStart and cellCursor of every cell (cellStart[numCells] = the total), a work-group a tile, each
+ * thread DPD_SCAN_CELLS_PER_THREAD cells in a row.  The counts are left at zero for the next build's
+ * dpdLocateParticles: no clearing launch per build.
+ */
+KERNEL void dpdScanCellCounts(int numCells, int numTiles, GLOBAL int* RESTRICT cellCount, GLOBAL const int* RESTRICT tileSum,
+                              GLOBAL int* RESTRICT cellStart, GLOBAL int* RESTRICT cellCursor) {
+    LOCAL int sums[DPD_SCAN_SIZE];
+    for (int tile = GROUP_ID; tile < numTiles; tile += NUM_GROUPS) {
+        int earlier = 0; // the particles of the tiles before this one
+        for (int k = LOCAL_ID; k < tile; k += DPD_SCAN_SIZE)
+            earlier += tileSum[k];
+        dpdExclusiveScanOfWorkGroup(earlier, sums);
+        int tileStart = sums[DPD_SCAN_SIZE-1];
+        int first = tile*DPD_SCAN_TILE+LOCAL_ID*DPD_SCAN_CELLS_PER_THREAD;
+        int counts[DPD_SCAN_CELLS_PER_THREAD], total = 0;
+        for (int k = 0; k < DPD_SCAN_CELLS_PER_THREAD; k++) {
+            counts[k] = first+k < numCells ? cellCount[first+k] : 0;
+            total += counts[k];
+        }
+        int start = tileStart+dpdExclusiveScanOfWorkGroup(total, sums);
+        for (int k = 0; k < DPD_SCAN_CELLS_PER_THREAD && first+k < numCells; k++) {
+            cellStart[first+k] = start;
+            cellCursor[first+k] = start;
+            cellCount[first+k] = 0;
+            start += counts[k];
+        }
+        if (tile == numTiles-1 && LOCAL_ID == DPD_SCAN_SIZE-1) // the threads past the last cell add nothing
+            cellStart[numCells] = start;
     }
 }
 

@@ -24,6 +24,7 @@
 #define DPD_SWEEP_ORNSTEIN_UHLENBECK 0
 #define DPD_SWEEP_BBK 1
 #define DPD_SWEEP_CHUNK 64
+#define DPD_SWEEP_HELD_SIZE (DPD_SWEEP_CAPACITY > 0 ? DPD_SWEEP_CAPACITY : 1) // a capacity of 0: no region is held
 
 /** The 13 neighbour cells of the half stencil: (dx, dy, dz) after (0, 0, 0) in the order z, then y, then x. */
 DEVICE int dpdHalfStencilOffset(int k, int axis) {
@@ -65,6 +66,66 @@ DEVICE int dpdFindDissipativePair(mixed4 pi, mixed4 pj, double invMassI, double 
     return 1;
 }
 
+/*
+ * The sweep's view of one block: its region, the block's cells and the cells their half stencils reach
+ * (x and y one cell either side, z one cell above), in local memory.  regionFirst[rc] is the region
+ * slot of region cell rc's first particle (cells in z, y, x order, each cell's particles in the grid's
+ * order), regionGridStart[rc] its first slot in cellAtoms.  A region cell's coordinates are the grid's
+ * minus the region's origin, modulo the grid (a region as wide as the grid holds each cell once).
+ */
+DEVICE int dpdRegionCell(int gx, int gy, int gz, int4 origin, int4 size, int4 numCells) {
+    int lx = (gx-origin.x+2*numCells.x)%numCells.x, ly = (gy-origin.y+2*numCells.y)%numCells.y;
+    int lz = (gz-origin.z+2*numCells.z)%numCells.z;
+    return lx+size.x*(ly+size.y*lz);
+}
+
+/** The largest k in [0, n) with first[k] <= value, for a non-decreasing first[0..n] with first[n] > value. */
+DEVICE int dpdLastAtOrBelow(LOCAL_ARG const int* first, int n, int value) {
+    int low = 0, high = n;
+    while (high-low > 1) {
+        int middle = (low+high)/2;
+        if (first[middle] <= value)
+            low = middle;
+        else
+            high = middle;
+    }
+    return low;
+}
+
+/**
+ * values[1..n] replaced by their running sums and values[0] set to 0 (values[k] is then the sum of the
+ * first k): each lane sums a run of consecutive entries, the lanes' sums are scanned
+ * (dpdExclusiveScanOfWorkGroup), and each lane writes its run.  Every lane of the work-group calls it.
+ */
+DEVICE void dpdInclusiveScanInPlace(LOCAL_ARG int* values, int n, LOCAL_ARG int* laneSums) {
+    SYNC_THREADS; // the values written before the call
+    int run = (n+LOCAL_SIZE-1)/LOCAL_SIZE, first = 1+LOCAL_ID*run, end = first+run < n+1 ? first+run : n+1, sum = 0;
+    for (int k = first; k < end; k++)
+        sum += values[k];
+    int before = dpdExclusiveScanOfWorkGroup(sum, laneSums);
+    for (int k = first; k < end; k++) {
+        before += values[k];
+        values[k] = before;
+    }
+    if (first == 1) // lane 0
+        values[0] = 0;
+    SYNC_THREADS;
+}
+
+/**
+ * One colour of the exact successive sweep: a work-group per block.  The block's particles and the
+ * partners they reach (its region) are read into local memory once (positions, System indices, types,
+ * velocities); the lanes then compute the pairs' coefficients DPD_SWEEP_CHUNK candidates at a time, in
+ * the sweep's order flattened over the whole block, and lane 0 runs the affine chain over each chunk in
+ * that order, on the velocities in local memory; the touched velocities go back at the block's end.  A
+ * region of more than DPD_SWEEP_CAPACITY particles (a dense cluster) is swept the same way with every
+ * particle read from and written to global memory: the same pairs, numbers and updates, in the same
+ * order (tested), only slower.
+ *
+ * The candidates of a block: for each of its cells (z, y, x), each particle i of the cell (in order),
+ * the later particles of i's cell, then those of the 13 half-stencil cells in order; a cell of n
+ * particles whose half stencil holds H has n(n-1)/2 + nH of them, particle t of it n-1-t+H.
+ */
 KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocksInColour, DPD_POSITIONS, double4 boxSize,
                            double4 inverseBoxSize, GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT cellStart,
                            GLOBAL const int* RESTRICT cellAtoms, GLOBAL const int* RESTRICT atomIndex,
@@ -72,12 +133,17 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                            GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff, double kT, double dt,
                            mm_ulong randomKey, int mode, int reversed, int gatherStress, GLOBAL double* RESTRICT blockStress, double shearRate, int withResponse,
                            GLOBAL const double* RESTRICT responseField, GLOBAL double* RESTRICT blockResponse, int firstResponseRow) {
-    LOCAL int partner[DPD_SWEEP_CHUNK];           // j, or -1: no pair
+    LOCAL int regionFirst[DPD_SWEEP_MAX_REGION_CELLS+1], regionGridStart[DPD_SWEEP_MAX_REGION_CELLS];
+    LOCAL int cellFirstCandidate[DPD_SWEEP_MAX_BLOCK_CELLS+1], cellStencilCount[DPD_SWEEP_MAX_BLOCK_CELLS];
+    LOCAL int laneSums[DPD_SWEEP_LANES];
+    LOCAL int regionAtom[DPD_SWEEP_HELD_SIZE], regionOriginal[DPD_SWEEP_HELD_SIZE], regionType[DPD_SWEEP_HELD_SIZE];
+    LOCAL int regionTouched[DPD_SWEEP_HELD_SIZE];
+    LOCAL mixed4 regionPosition[DPD_SWEEP_HELD_SIZE], regionVelocity[DPD_SWEEP_HELD_SIZE];
+    LOCAL int pairI[DPD_SWEEP_CHUNK], pairJ[DPD_SWEEP_CHUNK]; // region slots (atoms when not held locally); -1: no pair
     LOCAL double pairSlope[DPD_SWEEP_CHUNK], pairOffset[DPD_SWEEP_CHUNK], pairR[DPD_SWEEP_CHUNK];
     LOCAL double pairEx[DPD_SWEEP_CHUNK], pairEy[DPD_SWEEP_CHUNK], pairEz[DPD_SWEEP_CHUNK];
     LOCAL double pairStreaming[DPD_SWEEP_CHUNK];  // the Lees-Edwards part of u (DPDPairFormulas.h)
     LOCAL double pairResponse[DPD_SWEEP_CHUNK];   // Norton: e . (G_i - G_j)
-    LOCAL mixed4 partnerVelocity[DPD_SWEEP_CHUNK];
     double maxCutoff2 = maxCutoff*maxCutoff;
     int halfX = numBlocks.x == 1 ? 1 : numBlocks.x/2, halfY = numBlocks.y == 1 ? 1 : numBlocks.y/2;
     for (int b = GROUP_ID; b < blocksInColour; b += NUM_GROUPS) {
@@ -89,111 +155,189 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
         int y0 = by*numCells.y/numBlocks.y, y1 = (by+1)*numCells.y/numBlocks.y;
         int z0 = bz*numCells.z/numBlocks.z, z1 = (bz+1)*numCells.z/numBlocks.z;
         int sizeX = x1-x0, sizeY = y1-y0, numBlockCells = sizeX*sizeY*(z1-z0);
+        int4 origin = make_int4((x0-1+numCells.x)%numCells.x, (y0-1+numCells.y)%numCells.y, z0, 0);
+        int4 regionSize = make_int4(min(sizeX+2, numCells.x), min(sizeY+2, numCells.y), min(z1-z0+1, numCells.z), 0);
+        int numRegionCells = regionSize.x*regionSize.y*regionSize.z;
+
+        // The region's cells and their counts, then their first slots.
+        for (int rc = LOCAL_ID; rc < numRegionCells; rc += LOCAL_SIZE) {
+            int gx = (origin.x+rc%regionSize.x)%numCells.x, gy = (origin.y+(rc/regionSize.x)%regionSize.y)%numCells.y;
+            int gz = (origin.z+rc/(regionSize.x*regionSize.y))%numCells.z;
+            int cell = gx+numCells.x*(gy+numCells.y*gz);
+            regionGridStart[rc] = cellStart[cell];
+            regionFirst[rc+1] = cellStart[cell+1]-cellStart[cell];
+        }
+        dpdInclusiveScanInPlace(regionFirst, numRegionCells, laneSums);
+        // Each block cell's candidates, then where they start in the block's order.
+        for (int m = LOCAL_ID; m < numBlockCells; m += LOCAL_SIZE) {
+            int cx = x0+m%sizeX, cy = y0+(m/sizeX)%sizeY, cz = z0+m/(sizeX*sizeY);
+            int rc = dpdRegionCell(cx, cy, cz, origin, regionSize, numCells);
+            int n = regionFirst[rc+1]-regionFirst[rc], stencil = 0;
+            for (int k = 0; k < 13; k++) {
+                int neighbour = dpdRegionCell(cx+dpdHalfStencilOffset(k, 0), cy+dpdHalfStencilOffset(k, 1),
+                                              cz+dpdHalfStencilOffset(k, 2), origin, regionSize, numCells);
+                stencil += regionFirst[neighbour+1]-regionFirst[neighbour];
+            }
+            cellStencilCount[m] = stencil;
+            cellFirstCandidate[m+1] = n*(n-1)/2+n*stencil;
+        }
+        dpdInclusiveScanInPlace(cellFirstCandidate, numBlockCells, laneSums);
+        int numRegionAtoms = regionFirst[numRegionCells], numCandidates = cellFirstCandidate[numBlockCells];
+        int held = numRegionAtoms <= DPD_SWEEP_CAPACITY; // the region in local memory
+        if (held)
+            for (int r = LOCAL_ID; r < numRegionAtoms; r += LOCAL_SIZE) {
+                int rc = dpdLastAtOrBelow(regionFirst, numRegionCells, r);
+                int atom = cellAtoms[regionGridStart[rc]+r-regionFirst[rc]];
+                int original = atomIndex[atom];
+                regionAtom[r] = atom;
+                regionOriginal[r] = original;
+                regionType[r] = typeOf[original];
+                regionPosition[r] = DPD_POSITION(atom);
+                regionVelocity[r] = velm[atom];
+                regionTouched[r] = 0;
+            }
+        SYNC_THREADS;
         double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; // lane 0's sums
         double response = 0.0;
-        for (int n = 0; n < numBlockCells; n++) {
-            int m = reversed ? numBlockCells-1-n : n;
-            int cx = x0+m%sizeX, cy = y0+(m/sizeX)%sizeY, cz = z0+m/(sizeX*sizeY);
-            int cell = cx+numCells.x*(cy+numCells.y*cz);
-            int begin = cellStart[cell], end = cellStart[cell+1];
-            for (int s = 0; s < end-begin; s++) {
-                int slot = reversed ? end-1-s : begin+s;
-                int i = cellAtoms[slot];
-                // i's candidates in forward order: the later particles of its cell (segment 0), then the
-                // half stencil's cells (segments 1-13).
-                int segmentFirst[14], segmentStart[15];
-                segmentStart[0] = 0;
-                for (int k = 0; k < 14; k++) {
-                    int neighbour = cell, first = slot+1;
-                    if (k > 0) {
-                        neighbour = dpdNeighbourCell(cx, cy, cz, dpdHalfStencilOffset(k-1, 0), dpdHalfStencilOffset(k-1, 1),
-                                                     dpdHalfStencilOffset(k-1, 2), numCells);
-                        first = cellStart[neighbour];
-                    }
-                    segmentFirst[k] = first;
-                    segmentStart[k+1] = segmentStart[k]+cellStart[neighbour+1]-first;
+        for (int chunk = 0; chunk < numCandidates; chunk += DPD_SWEEP_CHUNK) {
+            int chunkSize = numCandidates-chunk < DPD_SWEEP_CHUNK ? numCandidates-chunk : DPD_SWEEP_CHUNK;
+            for (int c = LOCAL_ID; c < chunkSize; c += LOCAL_SIZE) {
+                int q = reversed ? numCandidates-1-(chunk+c) : chunk+c; // in forward order
+                // Which block cell, which of its particles i, which partner j (region cells and offsets in them).
+                int m = dpdLastAtOrBelow(cellFirstCandidate, numBlockCells, q);
+                int cx = x0+m%sizeX, cy = y0+(m/sizeX)%sizeY, cz = z0+m/(sizeX*sizeY);
+                int cellI = dpdRegionCell(cx, cy, cz, origin, regionSize, numCells);
+                int n = regionFirst[cellI+1]-regionFirst[cellI], stencil = cellStencilCount[m];
+                int rest = q-cellFirstCandidate[m], t = 0;
+                while (rest >= n-1-t+stencil) {
+                    rest -= n-1-t+stencil;
+                    t++;
                 }
-                int numCandidates = segmentStart[14];
-                mixed4 pi = DPD_POSITION(i);
-                int originalI = atomIndex[i];
-                int typeI = typeOf[originalI];
-                mixed4 vi = velm[i]; // lane 0 carries it through the chain
-                for (int chunk = 0; chunk < numCandidates; chunk += DPD_SWEEP_CHUNK) {
-                    int chunkSize = numCandidates-chunk < DPD_SWEEP_CHUNK ? numCandidates-chunk : DPD_SWEEP_CHUNK;
-                    for (int c = LOCAL_ID; c < chunkSize; c += LOCAL_SIZE) {
-                        int index = reversed ? numCandidates-1-(chunk+c) : chunk+c; // in forward order
-                        int k = 0;
-                        while (index >= segmentStart[k+1])
-                            k++;
-                        int j = cellAtoms[segmentFirst[k]+index-segmentStart[k]];
-                        partner[c] = -1;
-                        mixed4 pj = DPD_POSITION(j), vj = velm[j];
-                        int originalJ = atomIndex[j];
-                        DPDDissipativePair pair;
-                        if (!dpdFindDissipativePair(pi, pj, vi.w, vj.w, typeI*numTypes+typeOf[originalJ], friction, cutoff, maxCutoff2,
-                                                    boxSize, inverseBoxSize, &pair))
-                            continue;
-                        double gamma = pair.gamma, w = pair.w, invReducedMass = pair.invReducedMass, r = pair.r;
-                        double ex = pair.ex, ey = pair.ey, ez = pair.ez;
-                        DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI, originalJ);
-                        DPDPairUpdate update;
-                        if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
-                            update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, 1.0/invReducedMass, kT, dt, R.squaredRadius,
-                                                                  R.cosine);
-                        else
-                            update = bbkUpdate(gamma, w, invReducedMass, kT, dt, dpdNormal(R));
-                        partner[c] = j;
-                        pairSlope[c] = update.slope;
-                        pairOffset[c] = update.offset;
-                        pairR[c] = r;
-                        pairEx[c] = ex;
-                        pairEy[c] = ey;
-                        pairEz[c] = ez;
-                        pairStreaming[c] = leesEdwardsRelativeVelocity(shearRate, r, ex, ey);
-                        if (withResponse)
-                            pairResponse[c] = ex*(responseField[3*originalI]-responseField[3*originalJ])+
-                                              ey*(responseField[3*originalI+1]-responseField[3*originalJ+1])+
-                                              ez*(responseField[3*originalI+2]-responseField[3*originalJ+2]);
-                        partnerVelocity[c] = vj;
+                int cellJ = cellI, offsetJ = t+1+rest;
+                if (rest >= n-1-t) {
+                    rest -= n-1-t;
+                    for (int k = 0; k < 13; k++) {
+                        cellJ = dpdRegionCell(cx+dpdHalfStencilOffset(k, 0), cy+dpdHalfStencilOffset(k, 1), cz+dpdHalfStencilOffset(k, 2),
+                                              origin, regionSize, numCells);
+                        int count = regionFirst[cellJ+1]-regionFirst[cellJ];
+                        if (rest < count)
+                            break;
+                        rest -= count;
                     }
-                    SYNC_THREADS;
-                    if (LOCAL_ID == 0) // the successive chain, in order
-                        for (int c = 0; c < chunkSize; c++) {
-                            int j = partner[c];
-                            if (j < 0)
-                                continue;
-                            double ex = pairEx[c], ey = pairEy[c], ez = pairEz[c];
-                            DPDPairUpdate update = dpdPairUpdate(pairSlope[c], pairOffset[c]);
-                            mixed4 vj = partnerVelocity[c];
-                            // The lab-frame relative velocity: peculiar velocities plus the streaming difference.
-                            double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
-                                       pairStreaming[c];
-                            double change = dpdMomentumChange(update, u);
-                            if (withResponse) // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
-                                response += dpdDissipativePart(update, u)*pairResponse[c];
-                            if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts
-                                dpdAddPairStress(stress, pairR[c], dpdDissipativePart(update, u), ex, ey, ez);
-                                dpdAddPairStress(stress+6, pairR[c], update.offset, ex, ey, ez);
-                            }
-                            vi.x += (mixed) (change*ex*vi.w);
-                            vi.y += (mixed) (change*ey*vi.w);
-                            vi.z += (mixed) (change*ez*vi.w);
-                            vj.x -= (mixed) (change*ex*vj.w);
-                            vj.y -= (mixed) (change*ey*vj.w);
-                            vj.z -= (mixed) (change*ez*vj.w);
-                            partnerVelocity[c] = vj;
-                        }
-                    SYNC_THREADS;
-                    for (int c = LOCAL_ID; c < chunkSize; c += LOCAL_SIZE)
-                        if (partner[c] >= 0)
-                            velm[partner[c]] = partnerVelocity[c];
-                    SYNC_THREADS;
+                    offsetJ = rest;
                 }
-                if (LOCAL_ID == 0)
-                    velm[i] = vi;
-                SYNC_THREADS;
+                int slotI = regionFirst[cellI]+t, slotJ = regionFirst[cellJ]+offsetJ;
+                int atomI, atomJ, originalI, originalJ, typeI, typeJ;
+                mixed4 pi, pj, vi, vj;
+                if (held) {
+                    atomI = slotI;
+                    atomJ = slotJ;
+                    originalI = regionOriginal[slotI];
+                    originalJ = regionOriginal[slotJ];
+                    typeI = regionType[slotI];
+                    typeJ = regionType[slotJ];
+                    pi = regionPosition[slotI];
+                    pj = regionPosition[slotJ];
+                    vi = regionVelocity[slotI];
+                    vj = regionVelocity[slotJ];
+                }
+                else {
+                    atomI = cellAtoms[regionGridStart[cellI]+t];
+                    atomJ = cellAtoms[regionGridStart[cellJ]+offsetJ];
+                    originalI = atomIndex[atomI];
+                    originalJ = atomIndex[atomJ];
+                    typeI = typeOf[originalI];
+                    typeJ = typeOf[originalJ];
+                    pi = DPD_POSITION(atomI);
+                    pj = DPD_POSITION(atomJ);
+                    vi = velm[atomI];
+                    vj = velm[atomJ];
+                }
+                pairI[c] = -1;
+                DPDDissipativePair pair;
+                if (!dpdFindDissipativePair(pi, pj, vi.w, vj.w, typeI*numTypes+typeJ, friction, cutoff, maxCutoff2, boxSize,
+                                            inverseBoxSize, &pair))
+                    continue;
+                double gamma = pair.gamma, w = pair.w, invReducedMass = pair.invReducedMass, r = pair.r;
+                double ex = pair.ex, ey = pair.ey, ez = pair.ez;
+                DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI, originalJ);
+                DPDPairUpdate update;
+                if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
+                    update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, 1.0/invReducedMass, kT, dt, R.squaredRadius, R.cosine);
+                else
+                    update = bbkUpdate(gamma, w, invReducedMass, kT, dt, dpdNormal(R));
+                pairI[c] = atomI;
+                pairJ[c] = atomJ;
+                pairSlope[c] = update.slope;
+                pairOffset[c] = update.offset;
+                pairR[c] = r;
+                pairEx[c] = ex;
+                pairEy[c] = ey;
+                pairEz[c] = ez;
+                pairStreaming[c] = leesEdwardsRelativeVelocity(shearRate, r, ex, ey);
+                if (withResponse)
+                    pairResponse[c] = ex*(responseField[3*originalI]-responseField[3*originalJ])+
+                                      ey*(responseField[3*originalI+1]-responseField[3*originalJ+1])+
+                                      ez*(responseField[3*originalI+2]-responseField[3*originalJ+2]);
             }
+            SYNC_THREADS;
+            if (LOCAL_ID == 0) { // the successive chain, in order; v_i stays in a register while the pairs share i
+                int current = -1;
+                mixed4 vi;
+                for (int c = 0; c < chunkSize; c++) {
+                    int i = pairI[c], j = pairJ[c];
+                    if (i < 0)
+                        continue;
+                    if (i != current) {
+                        if (current >= 0) {
+                            if (held)
+                                regionVelocity[current] = vi;
+                            else
+                                velm[current] = vi;
+                        }
+                        current = i;
+                        vi = held ? regionVelocity[i] : velm[i];
+                    }
+                    mixed4 vj = held ? regionVelocity[j] : velm[j];
+                    double ex = pairEx[c], ey = pairEy[c], ez = pairEz[c];
+                    DPDPairUpdate update = dpdPairUpdate(pairSlope[c], pairOffset[c]);
+                    // The lab-frame relative velocity: peculiar velocities plus the streaming difference.
+                    double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
+                               pairStreaming[c];
+                    double change = dpdMomentumChange(update, u);
+                    if (withResponse) // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
+                        response += dpdDissipativePart(update, u)*pairResponse[c];
+                    if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts
+                        dpdAddPairStress(stress, pairR[c], dpdDissipativePart(update, u), ex, ey, ez);
+                        dpdAddPairStress(stress+6, pairR[c], update.offset, ex, ey, ez);
+                    }
+                    vi.x += (mixed) (change*ex*vi.w);
+                    vi.y += (mixed) (change*ey*vi.w);
+                    vi.z += (mixed) (change*ez*vi.w);
+                    vj.x -= (mixed) (change*ex*vj.w);
+                    vj.y -= (mixed) (change*ey*vj.w);
+                    vj.z -= (mixed) (change*ez*vj.w);
+                    if (held) {
+                        regionVelocity[j] = vj;
+                        regionTouched[i] = 1;
+                        regionTouched[j] = 1;
+                    }
+                    else
+                        velm[j] = vj;
+                }
+                if (current >= 0) {
+                    if (held)
+                        regionVelocity[current] = vi;
+                    else
+                        velm[current] = vi;
+                }
+            }
+            SYNC_THREADS;
         }
+        if (held)
+            for (int r = LOCAL_ID; r < numRegionAtoms; r += LOCAL_SIZE)
+                if (regionTouched[r])
+                    velm[regionAtom[r]] = regionVelocity[r];
         if (LOCAL_ID == 0) {
             if (gatherStress) // this block's row of the sweep's pair stress (dpdStress.cc sums the rows in order)
                 for (int k = 0; k < 12; k++)
@@ -201,6 +345,7 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
             if (withResponse)
                 blockResponse[firstResponseRow+b] = response;
         }
+        SYNC_THREADS; // the next block reuses the local arrays
     }
 }
 
