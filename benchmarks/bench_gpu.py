@@ -7,9 +7,12 @@ device memory is its own: "beyond OpenMM" is the device memory a run holds (nvid
 minus that of a Context with no force and a VerletIntegrator (OpenMM's own arrays).
 
 On OpenCL on a CPU (pocl) it runs the two smallest sizes only, and says that those figures tell nothing
-about GPUs: they check that the script and the platform work.
+about GPUs: they check that the script and the platform work.  It keeps to a time budget (--max-seconds,
+5 minutes less a margin by default): a round that would pass it is not started, and the table says how many
+rounds ran; the report is rewritten after every round, so a run cut short keeps what it measured.
 
-Usage: python benchmarks/bench_gpu.py [--sizes N ...] [--rounds R] [--seconds S] [--out FILE.md]
+Usage: python benchmarks/bench_gpu.py [--sizes N ...] [--rounds R] [--seconds S] [--platforms P ...]
+       [--max-seconds S] [--out FILE.md]
 """
 
 from __future__ import annotations
@@ -103,13 +106,45 @@ def gpu_platforms() -> List[str]:
     return found
 
 
+def table(platform_name: str, device: str, sizes: List[int], samples: Dict[tuple, List[dict]], on_cpu: bool,
+          rounds_done: int, rounds: int) -> List[str]:
+    """One platform's section of the report: a row per size and method, medians over the rounds run."""
+    lines = [f"## {platform_name}: {device}", ""]
+    if on_cpu:
+        lines += ["OpenCL on the CPU (pocl): these figures check that the platform runs; they mean nothing "
+                  "about GPUs.", ""]
+    if rounds_done < rounds:
+        lines += [f"{rounds_done} of {rounds} rounds: the next would have passed the time budget (--max-seconds).", ""]
+    lines += ["| N | method | particle-steps/s | ms/step | ÷ OpenMM-DPD per step | device MiB beyond OpenMM's "
+              "arrays (B/particle) |", "|---|---|---|---|---|---|"]
+    for n in sizes:
+        baseline = samples.get((BASELINE, n), [{}])[0].get("device_memory_mb")
+        openmm_dpd = samples.get(("OpenMM-DPD", n))
+        for method in METHODS:
+            runs = samples.get((method, n))
+            if not runs:
+                lines.append(f"| {n} | {method} | did not run | | | |")
+                continue
+            seconds = statistics.median(r["seconds_per_step"] for r in runs)
+            ratio = (statistics.median(r["seconds_per_step"] for r in openmm_dpd) / seconds) if openmm_dpd else None
+            memory = runs[0].get("device_memory_mb")
+            beyond = "n/a (no nvidia-smi)" if memory is None or baseline is None else \
+                f"{memory - baseline:.0f} ({(memory - baseline) * 2**20 / n:.0f})"
+            lines.append(f"| {n} | {method} | {n / seconds:.3g} | {1e3 * seconds:.3g} | "
+                         f"{'' if ratio is None else f'{ratio:.2f}×'} | {beyond} |")
+    return lines + [""]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--child", nargs=4, metavar=("METHOD", "N", "PLATFORM", "SECONDS"), help=argparse.SUPPRESS)
     parser.add_argument("--sizes", type=int, nargs="+", default=[10_000, 100_000, 1_000_000, 10_000_000])
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--seconds", type=float, default=1.0, help="stepping time per run (s)")
-    parser.add_argument("--out", default=None, help="also write the tables (markdown) there")
+    parser.add_argument("--platforms", nargs="+", default=None, help="GPU platforms to time (default: every one found)")
+    parser.add_argument("--max-seconds", type=float, default=280.0,
+                        help="time budget: no round starts that would pass it (the first round of a platform always runs)")
+    parser.add_argument("--out", default=None, help="also write the tables (markdown) there, after every round")
     args = parser.parse_args()
     if args.child:
         method, n, platform_name, seconds = args.child
@@ -117,16 +152,35 @@ def main() -> None:
         return
 
     began = time.time()
-    lines = ["# make bench-gpu", "", f"Command: `{' '.join([os.path.basename(sys.executable)] + sys.argv)}`; "
-             f"soft fluid rho = 3, a = 25, r_c = 1, gamma = {FRICTION}, dt = {STEP}, mixed precision; "
-             f"{args.rounds} interleaved rounds, medians.", ""]
-    for platform_name in gpu_platforms():
+    header = ["# make bench-gpu", "", f"Command: `{' '.join([os.path.basename(sys.executable)] + sys.argv)}`; "
+              f"soft fluid rho = 3, a = 25, r_c = 1, gamma = {FRICTION}, dt = {STEP}, mixed precision; "
+              f"{args.rounds} interleaved rounds, medians.", ""]
+    sections: List[List[str]] = []
+
+    def report(final: bool) -> str:
+        text = "\n".join(header + [line for section in sections for line in section] +
+                         [f"Wall time: {time.time() - began:.0f} s{'' if final else ' so far'}."])
+        if args.out:
+            with open(args.out, "w") as file:  # after every round: a run cut short keeps what it measured
+                file.write(text + "\n")
+        return text
+
+    platforms = [name for name in gpu_platforms() if args.platforms is None or name in args.platforms]
+    for platform_name in platforms:
+        if time.time() - began > args.max_seconds:
+            sections.append([f"## {platform_name}: not timed (the time budget was spent)", ""])
+            continue
         probe = run_child(BASELINE, min(args.sizes), platform_name, 0.05)
         device = probe["device"] if probe else "?"
         on_cpu = platform_name == "OpenCL" and any(word in device.lower() for word in ("pthread", "cpu", "pocl"))
         sizes = sorted(args.sizes)[:2] if on_cpu else sorted(args.sizes)
         samples: Dict[tuple, List[dict]] = {}
+        sections.append([])
+        last_round = 0.0
         for round_index in range(args.rounds):
+            if round_index > 0 and time.time() - began + last_round > args.max_seconds:
+                break
+            round_began = time.time()
             for n in sizes:
                 for method in METHODS + (BASELINE,):
                     if method == BASELINE and round_index > 0:
@@ -139,34 +193,10 @@ def main() -> None:
                     samples.setdefault((method, n), []).append(sample)
                     print(f"  round {round_index + 1} {platform_name} {method} N={n}: "
                           f"{n / sample['seconds_per_step']:.3g} particle-steps/s", flush=True)
-        lines += [f"## {platform_name}: {device}", ""]
-        if on_cpu:
-            lines += ["OpenCL on the CPU (pocl): these figures check that the platform runs; they mean nothing "
-                      "about GPUs.", ""]
-        lines += ["| N | method | particle-steps/s | ms/step | ÷ OpenMM-DPD per step | device MiB beyond OpenMM's "
-                  "arrays (B/particle) |", "|---|---|---|---|---|---|"]
-        for n in sizes:
-            baseline = samples.get((BASELINE, n), [{}])[0].get("device_memory_mb")
-            openmm_dpd = samples.get(("OpenMM-DPD", n))
-            for method in METHODS:
-                runs = samples.get((method, n))
-                if not runs:
-                    lines.append(f"| {n} | {method} | did not run | | | |")
-                    continue
-                seconds = statistics.median(r["seconds_per_step"] for r in runs)
-                ratio = (statistics.median(r["seconds_per_step"] for r in openmm_dpd) / seconds) if openmm_dpd else None
-                memory = runs[0].get("device_memory_mb")
-                beyond = "n/a (no nvidia-smi)" if memory is None or baseline is None else \
-                    f"{memory - baseline:.0f} ({(memory - baseline) * 2**20 / n:.0f})"
-                lines.append(f"| {n} | {method} | {n / seconds:.3g} | {1e3 * seconds:.3g} | "
-                             f"{'' if ratio is None else f'{ratio:.2f}×'} | {beyond} |")
-        lines.append("")
-    lines.append(f"Wall time: {time.time() - began:.0f} s.")
-    text = "\n".join(lines)
-    print(text)
-    if args.out:
-        with open(args.out, "w") as file:
-            file.write(text + "\n")
+            last_round = time.time() - round_began
+            sections[-1] = table(platform_name, device, sizes, samples, on_cpu, round_index + 1, args.rounds)
+            report(final=False)
+    print(report(final=True))
 
 
 if __name__ == "__main__":

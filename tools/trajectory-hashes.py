@@ -13,9 +13,10 @@ vector unit (AVX2 against AVX-512) or GPU, so hashes are compared between builds
 
 from __future__ import annotations
 
+import argparse
 import hashlib
 import sys
-from typing import Callable, Iterator, Tuple
+from typing import Callable, Iterator, Sequence, Tuple
 
 import numpy as np
 import openmm
@@ -96,12 +97,12 @@ def run(scheme: str, platform: str, setting: str, variant: str) -> str:
     return digest(context)
 
 
-def configurations(gpu: str) -> Iterator[Tuple[str, str, str, str]]:
+def configurations(gpu: str, precisions: Sequence[str]) -> Iterator[Tuple[str, str, str, str]]:
     variants = ["step(n)", "step(1)", "sheared", "stress", "bonds", "type-pairs", "checkpoint"]
     for scheme in dpd.SCHEMES:
         for variant in variants + (["NEMD", "Norton"] if scheme == "ABOBA" else []) + (["7 cells", "dense"] if gpu else []):
             if gpu:
-                for precision in ("single", "mixed", "double"):
+                for precision in precisions:
                     yield scheme, gpu, precision, variant
                 continue
             yield scheme, "Reference", "1", variant
@@ -110,11 +111,13 @@ def configurations(gpu: str) -> Iterator[Tuple[str, str, str, str]]:
 
 
 def main() -> int:
-    gpu = sys.argv[2] if len(sys.argv) == 3 and sys.argv[1] == "--gpu" else ""
-    if len(sys.argv) > 1 and not gpu:
-        print("usage: trajectory-hashes.py [--gpu OpenCL|CUDA]", file=sys.stderr)
-        return 2
-    for scheme, platform, setting, variant in configurations(gpu):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--gpu", choices=["OpenCL", "CUDA"], default="", help="hash this GPU platform's trajectories instead")
+    parser.add_argument("--precision", nargs="+", choices=["single", "mixed", "double"], default=["single", "mixed", "double"],
+                        help="with --gpu: the precisions (default: all three)")
+    args = parser.parse_args()
+    gpu = args.gpu
+    for scheme, platform, setting, variant in configurations(gpu, args.precision):
         print(f"{scheme:6s} {platform:9s} {setting:>{6 if gpu else 2}s} {variant:11s} {run(scheme, platform, setting, variant)}", flush=True)
     return 0
 
