@@ -51,8 +51,8 @@ typedef double4 mixed4;
 #define DPD_SWEEP_MAX_REGION_CELLS 180
 #define DPD_SWEEP_LANES 64
 #if defined(DPD_PRECISION_SINGLE)
-#define DPD_SWEEP_CAPACITY 711
+#define DPD_SWEEP_CAPACITY 583
 #else
-#define DPD_SWEEP_CAPACITY 426
+#define DPD_SWEEP_CAPACITY 349
 #endif
 #define DPD_KERNEL_SOURCE

@@ -40,10 +40,13 @@ int CommonDPDProgram::sweepCapacity(OpenMM::ComputeContext& cc) {
         return static_cast<int>(capacity);
     }
     // dpdSweepColour's local arrays: the region's cells and the block's (ints), the lanes' sums, a chunk of
-    // pairs (two ints and eight doubles each), and per particle four ints and two mixed4 (position, velocity).
+    // pairs (two ints and eight doubles each), and per particle four ints and two mixed4 (position, velocity),
+    // within 34 KiB a work-group: OpenMM launches at most 4 or 6 work-groups a multiprocessor (its grid is
+    // capped at numThreadBlocks), and 6 x (34 KiB + the 1 KiB CUDA reserves a block) fit in the 228 KiB of
+    // an H100's or H200's multiprocessor, so the local memory never keeps a launched work-group waiting.
     int width = CommonDPDCellGrid::maxBlockWidth;
     int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+sweepLanes);
     int pairBytes = 64*(2*4+8*8);
     int particleBytes = 4*4+2*(cc.getUseDoublePrecision() || cc.getUseMixedPrecision() ? 32 : 16);
-    return (40*1024-cellBytes-pairBytes)/particleBytes;
+    return (34*1024-cellBytes-pairBytes)/particleBytes;
 }
