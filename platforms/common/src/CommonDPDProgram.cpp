@@ -31,22 +31,25 @@ OpenMM::ComputeProgram CommonDPDProgram::compile(OpenMM::ComputeContext& cc, con
 }
 
 int CommonDPDProgram::sweepCapacity(OpenMM::ComputeContext& cc) {
-    if (const char* setting = std::getenv("OPENMMDPD_GPU_SWEEP_CAPACITY")) {
-        char* end = nullptr;
-        long capacity = std::strtol(setting, &end, 10);
-        if (end == setting || *end != '\0' || capacity < 0 || capacity > 100000)
-            throw OpenMM::OpenMMException(std::string("OPENMMDPD_GPU_SWEEP_CAPACITY is '")+setting+
-                                          "': it must be a whole number of particles from 0 to 100000");
-        return static_cast<int>(capacity);
-    }
     // dpdSweepColour's local arrays: the region's cells and the block's (ints), the lanes' sums, a chunk of
-    // pairs (two ints and eight doubles each), and per particle four ints and two mixed4 (position, velocity),
-    // within 34 KiB a work-group: OpenMM launches at most 4 or 6 work-groups a multiprocessor (its grid is
-    // capped at numThreadBlocks), and 6 x (34 KiB + the 1 KiB CUDA reserves a block) fit in the 228 KiB of
-    // an H100's or H200's multiprocessor, so the local memory never keeps a launched work-group waiting.
+    // pairs (two ints and eight doubles each), and per particle four ints and two mixed4 (position, velocity).
     int width = CommonDPDCellGrid::maxBlockWidth;
     int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+sweepLanes);
     int pairBytes = 64*(2*4+8*8);
     int particleBytes = 4*4+2*(cc.getUseDoublePrecision() || cc.getUseMixedPrecision() ? 32 : 16);
-    return (34*1024-cellBytes-pairBytes)/particleBytes;
+    auto capacityWithin = [&](int bytes) { return (bytes-cellBytes-pairBytes)/particleBytes; };
+    if (const char* setting = std::getenv("OPENMMDPD_GPU_SWEEP_CAPACITY")) {
+        // At most what CUDA's 48 KiB of static shared memory a block holds (OpenCL devices: at least 32 KiB).
+        int largest = capacityWithin(48*1024);
+        char* end = nullptr;
+        long capacity = std::strtol(setting, &end, 10);
+        if (end == setting || *end != '\0' || capacity < 0 || capacity > largest)
+            throw OpenMM::OpenMMException(std::string("OPENMMDPD_GPU_SWEEP_CAPACITY is '")+setting+"': it must be a whole number of "
+                                          "particles from 0 to "+std::to_string(largest)+" in this precision");
+        return static_cast<int>(capacity);
+    }
+    // Within 34 KiB a work-group: OpenMM launches at most 4 or 6 work-groups a multiprocessor (its grid is
+    // capped at numThreadBlocks), and 6 x (34 KiB + the 1 KiB CUDA reserves a block) fit in the 228 KiB of
+    // an H100's or H200's multiprocessor, so the local memory never keeps a launched work-group waiting.
+    return capacityWithin(34*1024);
 }

@@ -14,11 +14,11 @@
  * BAOOAB's second O sweep).
  *
  * Each pair update is Delta p = slope u + offset along e_ij (DPDPairFormulas.h), with slope and offset
- * independent of the velocities: for one particle i the lanes compute, in parallel, everything of its
- * partners that the positions and random numbers decide (e_ij, r, slope, offset, the streaming term)
- * and load the partners' velocities into local memory, chunk by chunk; lane 0 then runs the cheap
- * affine chain over them in order, and the lanes write the partners back.  The chain is the sequential
- * sweep itself, so the result does not depend on the number of lanes.
+ * independent of the velocities: the lanes compute, in parallel, everything of a chunk of the block's
+ * pairs that the positions and random numbers decide (e_ij, r, slope, offset, the streaming term), from
+ * the block's region held in local memory (dpdSweepColour); lane 0 then runs the cheap affine chain over
+ * the chunk in order.  The chain is the sequential sweep itself, so the result does not depend on the
+ * number of lanes.
  */
 
 #define DPD_SWEEP_ORNSTEIN_UHLENBECK 0
