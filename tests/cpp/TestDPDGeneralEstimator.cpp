@@ -135,7 +135,9 @@ TEST(DPDGeneralEstimator, ChargesWithPMEHaveTheConfigurationalTemperatureTheTher
     // ABOBA at a small step: k_B T_conf = <|grad U|^2> / <lap U> must be kT within 4 of its block errors
     // (the run's fluctuations and the probes' scatter both in the samples).  Without the Ewald part the
     // Laplacian misses the charges' curvature: the same sums with the Coulomb Laplacian left out are
-    // several error bars off, which the last check asserts (the test can fail).
+    // several error bars off, which the last check asserts (the test can fail).  On Reference: OpenMM's
+    // CPU PME is not bit-reproducible run to run (see below), and this test's error bar once passed its
+    // bound by 7 % in CI, where it had stayed inside it before: a test must not depend on the run.
     SoftFluid fluid = makeSoftFluid(250, 3.0, 47);
     auto* charges = new NonbondedForce();
     charges->setNonbondedMethod(NonbondedForce::PME);
@@ -146,7 +148,7 @@ TEST(DPDGeneralEstimator, ChargesWithPMEHaveTheConfigurationalTemperatureTheTher
     fluid.system->addForce(charges);
     DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.01);
     integrator.setRandomNumberSeed(11);
-    auto context = makeContext(fluid, integrator, "CPU");
+    auto context = makeContext(fluid, integrator, "Reference");
     integrator.step(400);
     DPDObservables::EstimatorOptions options;
     options.probes = 8;
@@ -166,7 +168,7 @@ TEST(DPDGeneralEstimator, ChargesWithPMEHaveTheConfigurationalTemperatureTheTher
         SoftFluid only = makeSoftFluid(250, 3.0, 47, false);
         only.system->addForce(XmlSerializer::clone<Force>(fluid.system->getForce(1)));
         VerletIntegrator verlet(0.001);
-        Context charged(*only.system, verlet, platform("CPU"));
+        Context charged(*only.system, verlet, platform("Reference"));
         charged.setPositions(context->getState(State::Positions).getPositions());
         chargesShare = DPDObservables::configurationalSums(charged, options).laplacian;
     }
