@@ -51,8 +51,8 @@ typedef double4 mixed4;
 #define DPD_SWEEP_MAX_REGION_CELLS 180
 #define DPD_SWEEP_LANES 64
 #if defined(DPD_PRECISION_SINGLE)
-#define DPD_SWEEP_CAPACITY 583
+#define DPD_SWEEP_CAPACITY 564
 #else
-#define DPD_SWEEP_CAPACITY 349
+#define DPD_SWEEP_CAPACITY 338
 #endif
 #define DPD_KERNEL_SOURCE

@@ -22,8 +22,8 @@ public:
     /**
      * How many particles of a block's region (the block and the cells its pairs reach) the sweep holds
      * in local memory: what 34 KiB leaves after the sweep's other arrays (CommonDPDProgram.cpp says why:
-     * 349 particles in mixed and double precision, 583 in single), or the environment variable
-     * OPENMMDPD_GPU_SWEEP_CAPACITY (from 0 to what 48 KiB holds, 529 or 881: for a device with less or
+     * 338 particles in mixed and double precision, 564 in single), or the environment variable
+     * OPENMMDPD_GPU_SWEEP_CAPACITY (from 0 to what 48 KiB holds, 517 or 863: for a device with less or
      * more local memory, or to test the path of regions that do not fit).  A region with more particles
      * is swept in global memory: the same bits, more slowly.
      */

@@ -31,10 +31,11 @@ OpenMM::ComputeProgram CommonDPDProgram::compile(OpenMM::ComputeContext& cc, con
 }
 
 int CommonDPDProgram::sweepCapacity(OpenMM::ComputeContext& cc) {
-    // dpdSweepColour's local arrays: the region's cells and the block's (ints), the lanes' sums, a chunk of
-    // pairs (two ints and eight doubles each), and per particle four ints and two mixed4 (position, velocity).
+    // dpdSweepColour's local arrays: the region's cells and the block's (ints; a byte for each block cell's
+    // region cell and 13 for its half stencil's), the lanes' sums, a chunk of pairs (two ints and eight
+    // doubles each), and per particle four ints and two mixed4 (position, velocity).
     int width = CommonDPDCellGrid::maxBlockWidth;
-    int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+sweepLanes);
+    int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+sweepLanes)+14*width*width*width;
     int pairBytes = 64*(2*4+8*8);
     int particleBytes = 4*4+2*(cc.getUseDoublePrecision() || cc.getUseMixedPrecision() ? 32 : 16);
     auto capacityWithin = [&](int bytes) { return (bytes-cellBytes-pairBytes)/particleBytes; };

@@ -308,11 +308,11 @@ TEST(OpenCLPlatform, SweepsHeldInLocalMemoryAndInGlobalMemoryGiveTheSameBits) {
 
 TEST(OpenCLPlatform, SweepCapacityOutOfRangeRaisesNamingIt) {
     SoftFluid fluid = makeSoftFluid(300, 3.0);
-    // Double precision: at most what CUDA's 48 KiB of static shared memory holds, 529 particles.
-    for (const char* value : {"-1", "lots", "530"}) {
+    // Double precision: at most what CUDA's 48 KiB of static shared memory holds, 517 particles.
+    for (const char* value : {"-1", "lots", "518"}) {
         SweepCapacitySetting setting(value);
         EXPECT_TRUE(firstStepRaisesMentioning(fluid, {std::string("OPENMMDPD_GPU_SWEEP_CAPACITY is '")+value+"'",
-                                                      "a whole number of particles from 0 to 529 in this precision"}))
+                                                      "a whole number of particles from 0 to 517 in this precision"}))
             << value;
     }
 }

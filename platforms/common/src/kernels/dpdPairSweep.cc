@@ -135,6 +135,8 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                            GLOBAL const double* RESTRICT responseField, GLOBAL double* RESTRICT blockResponse, int firstResponseRow) {
     LOCAL int regionFirst[DPD_SWEEP_MAX_REGION_CELLS+1], regionGridStart[DPD_SWEEP_MAX_REGION_CELLS];
     LOCAL int cellFirstCandidate[DPD_SWEEP_MAX_BLOCK_CELLS+1], cellStencilCount[DPD_SWEEP_MAX_BLOCK_CELLS];
+    // Each block cell's region cell and those of its 13 half-stencil cells, found once a block for the decoding of every candidate.
+    LOCAL unsigned char cellRegion[DPD_SWEEP_MAX_BLOCK_CELLS], stencilRegion[13*DPD_SWEEP_MAX_BLOCK_CELLS];
     LOCAL int laneSums[DPD_SWEEP_LANES];
     LOCAL int regionAtom[DPD_SWEEP_HELD_SIZE], regionOriginal[DPD_SWEEP_HELD_SIZE], regionType[DPD_SWEEP_HELD_SIZE];
     LOCAL int regionTouched[DPD_SWEEP_HELD_SIZE];
@@ -173,9 +175,11 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
             int cx = x0+m%sizeX, cy = y0+(m/sizeX)%sizeY, cz = z0+m/(sizeX*sizeY);
             int rc = dpdRegionCell(cx, cy, cz, origin, regionSize, numCells);
             int n = regionFirst[rc+1]-regionFirst[rc], stencil = 0;
+            cellRegion[m] = (unsigned char) rc; // a region has at most DPD_SWEEP_MAX_REGION_CELLS (180) cells
             for (int k = 0; k < 13; k++) {
                 int neighbour = dpdRegionCell(cx+dpdHalfStencilOffset(k, 0), cy+dpdHalfStencilOffset(k, 1),
                                               cz+dpdHalfStencilOffset(k, 2), origin, regionSize, numCells);
+                stencilRegion[13*m+k] = (unsigned char) neighbour;
                 stencil += regionFirst[neighbour+1]-regionFirst[neighbour];
             }
             cellStencilCount[m] = stencil;
@@ -205,8 +209,7 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                 int q = reversed ? numCandidates-1-(chunk+c) : chunk+c; // in forward order
                 // Which block cell, which of its particles i, which partner j (region cells and offsets in them).
                 int m = dpdLastAtOrBelow(cellFirstCandidate, numBlockCells, q);
-                int cx = x0+m%sizeX, cy = y0+(m/sizeX)%sizeY, cz = z0+m/(sizeX*sizeY);
-                int cellI = dpdRegionCell(cx, cy, cz, origin, regionSize, numCells);
+                int cellI = cellRegion[m];
                 int n = regionFirst[cellI+1]-regionFirst[cellI], stencil = cellStencilCount[m];
                 int rest = q-cellFirstCandidate[m], t = 0;
                 while (rest >= n-1-t+stencil) {
@@ -217,8 +220,7 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                 if (rest >= n-1-t) {
                     rest -= n-1-t;
                     for (int k = 0; k < 13; k++) {
-                        cellJ = dpdRegionCell(cx+dpdHalfStencilOffset(k, 0), cy+dpdHalfStencilOffset(k, 1), cz+dpdHalfStencilOffset(k, 2),
-                                              origin, regionSize, numCells);
+                        cellJ = stencilRegion[13*m+k];
                         int count = regionFirst[cellJ+1]-regionFirst[cellJ];
                         if (rest < count)
                             break;
