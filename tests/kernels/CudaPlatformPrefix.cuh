@@ -45,6 +45,7 @@ typedef double4 mixed4;
 #define NUM_ATOMS 1000
 #define PADDED_NUM_ATOMS 1024
 #define DPD_SCAN_SIZE 256
+#define DPD_SCAN_TILE 2048
 // CommonDPDProgram::compile's sweep sizes (maxBlockWidth 4; sweepCapacity's default): ptxas refuses a
 // kernel whose static shared memory passes CUDA's 48 KiB, so this also checks the capacity fits.
 #define DPD_SWEEP_MAX_BLOCK_CELLS 64

@@ -63,6 +63,7 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
     boxSize = OpenMM::mm_double4(box[0][0], box[1][1], box[2][2], box[1][0]); // w: the Lees-Edwards offset b_x
     inverseBoxSize = OpenMM::mm_double4(1.0/box[0][0], 1.0/box[1][1], 1.0/box[2][2], 0.0);
     int numCells = layout.numCells.w;
+    int numTiles = (numCells+scanTile-1)/scanTile; // of the scan's work-groups
     if (numCells > numCellsAllocated) { // grows only: a box that breathes does not reallocate every step
         if (cellCount.isInitialized()) {
             cellCount.resize(numCells);
@@ -74,7 +75,6 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
             cellStart.initialize<int>(cc, numCells+1, "dpdCellStart");
             cellCursor.initialize<int>(cc, numCells, "dpdCellCursor");
         }
-        int numTiles = (numCells+scanTile-1)/scanTile;
         if (tileSum.isInitialized())
             tileSum.resize(numTiles);
         else
@@ -87,7 +87,6 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
         locate.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
     else
         locate.run(numAtoms, -1, numAtoms, cc.getPosq(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
-    int numTiles = (numCells+scanTile-1)/scanTile;
     if (numTiles > 1)
         sumTiles.run(numTiles*scanSize, scanSize, numCells, cellCount, tileSum);
     scan.run(numTiles*scanSize, scanSize, numCells, numTiles, cellCount, tileSum, cellStart, cellCursor);

@@ -18,6 +18,7 @@ OpenMM::ComputeProgram CommonDPDProgram::compile(OpenMM::ComputeContext& cc, con
     defines["NUM_ATOMS"] = cc.intToString(cc.getNumAtoms());
     defines["PADDED_NUM_ATOMS"] = cc.intToString(cc.getPaddedNumAtoms());
     defines["DPD_SCAN_SIZE"] = cc.intToString(CommonDPDCellGrid::scanSize);
+    defines["DPD_SCAN_TILE"] = cc.intToString(CommonDPDCellGrid::scanTile);
     int width = CommonDPDCellGrid::maxBlockWidth; // a block's region: one cell more either side in x and y, one above in z
     defines["DPD_SWEEP_MAX_BLOCK_CELLS"] = cc.intToString(width*width*width);
     defines["DPD_SWEEP_MAX_REGION_CELLS"] = cc.intToString((width+2)*(width+2)*(width+1));

@@ -114,8 +114,7 @@ KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 boxSize, dou
  * one tile, dpdSumCellTiles first writes each tile's total; dpdScanCellCounts then starts each tile
  * after the totals of the tiles before it.  Integer sums only: the result does not depend on the order.
  */
-#define DPD_SCAN_CELLS_PER_THREAD 8
-#define DPD_SCAN_TILE (DPD_SCAN_SIZE*DPD_SCAN_CELLS_PER_THREAD)
+#define DPD_SCAN_CELLS_PER_THREAD (DPD_SCAN_TILE/DPD_SCAN_SIZE) // DPD_SCAN_TILE: CommonDPDCellGrid::scanTile
 
 /**
  * The sum of the work-group's values before this thread's (every thread calls it with its value;
