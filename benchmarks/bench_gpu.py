@@ -3,8 +3,10 @@ and OpenMM's own DPDIntegrator (the soft force as a CustomNonbondedForce, as mak
 GPU platform this machine has (CUDA, OpenCL), soft fluid rho = 3, a = 25, r_c = 1, gamma = 4.5, kT = 1,
 dt = 0.04, OpenMM's default mixed precision.  Methods and sizes are interleaved round by round
 (A B C D A B C D ...) and the table gives medians.  One process per run (--child), so that each run's
-device memory is its own: "beyond OpenMM" is the device memory a run holds (nvidia-smi, CUDA machines)
-minus that of a Context with no force and a VerletIntegrator (OpenMM's own arrays).
+device memory is its own: "beyond OpenMM" is the device memory a run holds minus that of a Context with
+no force and a VerletIntegrator (OpenMM's own arrays).  On CUDA it is read with nvidia-smi; on OpenCL the
+bytes of the device buffers the run creates are counted (tools/opencl-probe/count_launches_and_buffers.c,
+preloaded), which needs no GPU: the arrays are the same on any device.
 
 On OpenCL on a CPU (pocl) it runs the two smallest sizes only, and says that those figures tell nothing
 about GPUs: they check that the script and the platform work.  It keeps to a time budget (--max-seconds,
@@ -24,6 +26,7 @@ import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from typing import Dict, List, Optional
 
@@ -41,18 +44,17 @@ def device_memory_mb() -> Optional[float]:
     return float(result.stdout.split()[0]) if result.returncode == 0 else None
 
 
-def child(method: str, n: int, platform_name: str, seconds: float) -> None:
+def make_context(method: str, n: int, platform_name: str):
+    """The benchmark's scene for one method (or BASELINE) on a platform: the Context, its integrator and platform."""
     import numpy as np
     import openmm as mm
 
     import openmmdpd as dpd
     from openmmdpd.study.scene import replace_with_custom_soft_force
 
-    before = device_memory_mb()
     system, positions = dpd.soft_fluid(n, 3.0, seed=1)
-    if method in ("OpenMM-DPD",):
-        replace_with_custom_soft_force(system, 25.0, 1.0)
     if method == "OpenMM-DPD":
+        replace_with_custom_soft_force(system, 25.0, 1.0)
         integrator = mm.DPDIntegrator(dpd.REDUCED_TEMPERATURE, FRICTION, 1.0, STEP)
     elif method == BASELINE:
         system.removeForce(0)
@@ -63,6 +65,12 @@ def child(method: str, n: int, platform_name: str, seconds: float) -> None:
     context = mm.Context(system, integrator, platform, {"Precision": "mixed"})
     context.setPositions(np.asarray(positions.value_in_unit(positions.unit)))
     context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 1)
+    return context, integrator, platform
+
+
+def child(method: str, n: int, platform_name: str, seconds: float) -> None:
+    before = device_memory_mb()
+    context, integrator, platform = make_context(method, n, platform_name)
     integrator.step(5)
     context.getState(getEnergy=True)  # drain the queue
     steps, elapsed = 5, 0.0
@@ -78,13 +86,38 @@ def child(method: str, n: int, platform_name: str, seconds: float) -> None:
                       "device": platform.getPropertyValue(context, "DeviceName")}))
 
 
-def run_child(method: str, n: int, platform_name: str, seconds: float) -> Optional[dict]:
-    result = subprocess.run([sys.executable, __file__, "--child", method, str(n), platform_name, str(seconds)],
+BUFFER_COUNTER = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "tools", "opencl-probe",
+                              "count_launches_and_buffers.c")
+
+
+def build_opencl_counter(directory: str) -> Optional[str]:
+    """The OpenCL launch and buffer counter built into `directory` (an LD_PRELOAD library), or None, saying why."""
+    library = os.path.join(directory, "count_launches_and_buffers.so")
+    result = subprocess.run(["gcc", "-shared", "-fPIC", "-O2", "-o", library, BUFFER_COUNTER, "-ldl", "-lOpenCL"],
                             capture_output=True, text=True)
     if result.returncode != 0:
-        print(f"  {platform_name} {method} N={n}: failed: {result.stderr.strip().splitlines()[-1:]}", flush=True)
+        print(f"OpenCL device memory will not be counted: the counter did not build: {result.stderr.strip()[-300:]}")
         return None
-    return json.loads(result.stdout.strip().splitlines()[-1])
+    return library
+
+
+def run_child(method: str, n: int, platform_name: str, seconds: float, counter: Optional[str] = None) -> Optional[dict]:
+    """One run in its own process; with `counter` (OpenCL), the bytes of the device buffers it created too."""
+    environment = dict(os.environ)
+    with tempfile.NamedTemporaryFile(suffix=".txt") as counts:
+        if counter is not None and platform_name == "OpenCL":
+            environment.update(LD_PRELOAD=counter, OPENCL_PROBE_OUT=counts.name)
+        result = subprocess.run([sys.executable, __file__, "--child", method, str(n), platform_name, str(seconds)],
+                                capture_output=True, text=True, env=environment)
+        if result.returncode != 0:
+            print(f"  {platform_name} {method} N={n}: failed: {result.stderr.strip().splitlines()[-1:]}", flush=True)
+            return None
+        sample = json.loads(result.stdout.strip().splitlines()[-1])
+        for line in open(counts.name):
+            if line.startswith("bytes "):
+                sample["device_memory_mb"] = int(line.split()[1]) / 2**20  # the buffers, not nvidia-smi's reading
+                sample["memory_source"] = "OpenCL buffers created"
+    return sample
 
 
 def gpu_platforms() -> List[str]:
@@ -115,7 +148,10 @@ def table(platform_name: str, device: str, sizes: List[int], samples: Dict[tuple
                   "about GPUs.", ""]
     if rounds_done < rounds:
         lines += [f"{rounds_done} of {rounds} rounds: the next would have passed the time budget (--max-seconds).", ""]
-    lines += ["| N | method | particle-steps/s | ms/step | ÷ OpenMM-DPD per step | device MiB beyond OpenMM's "
+    sources = {run.get("memory_source", "nvidia-smi" if run.get("device_memory_mb") is not None else "not measured (no nvidia-smi)")
+               for runs in samples.values() for run in runs}
+    lines += [f"Device memory: {', '.join(sorted(sources))}.", "",
+              "| N | method | particle-steps/s | ms/step | ÷ OpenMM-DPD per step | device MiB beyond OpenMM's "
               "arrays (B/particle) |", "|---|---|---|---|---|---|"]
     for n in sizes:
         baseline = samples.get((BASELINE, n), [{}])[0].get("device_memory_mb")
@@ -129,7 +165,7 @@ def table(platform_name: str, device: str, sizes: List[int], samples: Dict[tuple
             ratio = (statistics.median(r["seconds_per_step"] for r in openmm_dpd) / seconds) if openmm_dpd else None
             memory = runs[0].get("device_memory_mb")
             beyond = "n/a (no nvidia-smi)" if memory is None or baseline is None else \
-                f"{memory - baseline:.0f} ({(memory - baseline) * 2**20 / n:.0f})"
+                f"{memory - baseline:.1f} ({(memory - baseline) * 2**20 / n:.0f})"
             lines.append(f"| {n} | {method} | {n / seconds:.3g} | {1e3 * seconds:.3g} | "
                          f"{'' if ratio is None else f'{ratio:.2f}×'} | {beyond} |")
     return lines + [""]
@@ -166,11 +202,13 @@ def main() -> None:
         return text
 
     platforms = [name for name in gpu_platforms() if args.platforms is None or name in args.platforms]
+    scratch = tempfile.TemporaryDirectory()
+    counter = build_opencl_counter(scratch.name) if "OpenCL" in platforms else None
     for platform_name in platforms:
         if time.time() - began > args.max_seconds:
             sections.append([f"## {platform_name}: not timed (the time budget was spent)", ""])
             continue
-        probe = run_child(BASELINE, min(args.sizes), platform_name, 0.05)
+        probe = run_child(BASELINE, min(args.sizes), platform_name, 0.05, counter)
         device = probe["device"] if probe else "?"
         on_cpu = platform_name == "OpenCL" and any(word in device.lower() for word in ("pthread", "cpu", "pocl"))
         sizes = sorted(args.sizes)[:2] if on_cpu else sorted(args.sizes)
@@ -185,7 +223,7 @@ def main() -> None:
                 for method in METHODS + (BASELINE,):
                     if method == BASELINE and round_index > 0:
                         continue  # memory only
-                    sample = run_child(method, n, platform_name, args.seconds if method != BASELINE else 0.05)
+                    sample = run_child(method, n, platform_name, args.seconds if method != BASELINE else 0.05, counter)
                     if sample is None:
                         if method != BASELINE:
                             break  # out of memory at this size: larger ones will not fit either
