@@ -86,14 +86,17 @@ def child(method: str, n: int, platform_name: str, seconds: float) -> None:
                       "device": platform.getPropertyValue(context, "DeviceName")}))
 
 
-BUFFER_COUNTER = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "tools", "opencl-probe",
+OPENCL_COUNTER_SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "tools", "opencl-probe",
                               "count_launches_and_buffers.c")
 
 
 def build_opencl_counter(directory: str) -> Optional[str]:
     """The OpenCL launch and buffer counter built into `directory` (an LD_PRELOAD library), or None, saying why."""
+    if shutil.which("gcc") is None:
+        print("OpenCL device memory will not be counted: the counter needs gcc to build")
+        return None
     library = os.path.join(directory, "count_launches_and_buffers.so")
-    result = subprocess.run(["gcc", "-shared", "-fPIC", "-O2", "-o", library, BUFFER_COUNTER, "-ldl", "-lOpenCL"],
+    result = subprocess.run(["gcc", "-shared", "-fPIC", "-O2", "-o", library, OPENCL_COUNTER_SOURCE, "-ldl", "-lOpenCL"],
                             capture_output=True, text=True)
     if result.returncode != 0:
         print(f"OpenCL device memory will not be counted: the counter did not build: {result.stderr.strip()[-300:]}")
