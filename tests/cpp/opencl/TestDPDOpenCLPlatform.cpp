@@ -1,8 +1,8 @@
 // The OpenCL platform (platforms/common, run here on the machine's OpenCL device: pocl on the CPU in
 // CI, so small systems only and nothing timed): DPDForce against Reference in every precision, VV's
-// step against Reference, every scheme's temperatures (also at the frictions where OpenMM's own GPU
-// DPDIntegrator heats the fluid), momentum, run-to-run bits, OpenMM's atom reordering, checkpoints,
-// and what the platform refuses.  Tolerances: see each test.
+// step against Reference, every scheme's temperatures against the CPU platform's (also at the frictions
+// where OpenMM's own GPU DPDIntegrator heats the fluid), momentum, run-to-run bits, OpenMM's atom
+// reordering, checkpoints, and what the platform refuses.  Tolerances: see each test.
 
 #include "OpenCLTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
@@ -130,54 +130,76 @@ struct Temperatures {
     BlockEstimate kinetic, configurational;
 };
 
-Temperatures measureOnOpenCL(const EquilibratedFluid& start, const std::string& scheme, double friction, double dt, int samples,
-                             int stepsPerSample) {
+/** T_kin and T_conf (eq. 3.1) of a scheme on a platform: 100 steps, then 300 samples `stepsPerSample` apart, in 20 blocks. */
+Temperatures measureTemperatures(const EquilibratedFluid& start, const std::string& platformName, const std::string& scheme,
+                                 double friction, double dt, int stepsPerSample) {
     DPDIntegrator integrator(reducedTemperature, friction, 1.0, dt, scheme);
     integrator.setRandomNumberSeed(2026);
-    auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+    auto context = platformName == "CPU" ? makeContext(start, integrator, "CPU") : openCLContext(*start.fluid.system, integrator, "mixed");
     context->setPositions(start.fluid.positions);
     context->setVelocities(start.velocities);
     integrator.step(100);
-    TemperatureSamples sampled = sampleTemperatures(*context, integrator, samples, stepsPerSample, true);
+    TemperatureSamples sampled = sampleTemperatures(*context, integrator, 300, stepsPerSample, true);
     Temperatures result{sampled.kineticEstimate(), sampled.configurationalEstimate()};
-    std::printf("[ measured ] OpenCL %s gamma=%g dt=%g: T_kin = %.4f +- %.4f, T_conf = %.4f +- %.4f\n", scheme.c_str(), friction, dt,
-                result.kinetic.mean, result.kinetic.standardError, result.configurational.mean, result.configurational.standardError);
+    std::printf("[ measured ] %s %s gamma=%g dt=%g: T_kin = %.4f +- %.4f, T_conf = %.4f +- %.4f\n", platformName.c_str(), scheme.c_str(),
+                friction, dt, result.kinetic.mean, result.kinetic.standardError, result.configurational.mean,
+                result.configurational.standardError);
     return result;
+}
+
+/** |a - b| < 5 combined standard errors, with the numbers in the failure message. */
+::testing::AssertionResult agreeWithinError(const BlockEstimate& a, const BlockEstimate& b) {
+    double bound = 5*std::hypot(a.standardError, b.standardError);
+    if (std::fabs(a.mean-b.mean) < bound)
+        return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << a.mean << " +- " << a.standardError << " against " << b.mean << " +- " << b.standardError
+                                         << ": the difference passes 5 combined standard errors, " << bound;
 }
 
 } // namespace
 
 class OpenCLScheme : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(OpenCLScheme, TemperaturesAtGamma4Point5) {
-    // N = 375, gamma = 4.5, dt = 0.05, 1500 steps sampled every 5 (mixed precision, OpenMM's default).
-    // Allowances from the CPU's measured discretisation biases at this step (TestDPDTemperatures:
-    // T_kin +1.5% to +4%, T_conf up to +9% for VV and S1, within 2% for ABOBA): 6% and 12%.  A wrong
-    // noise amplitude, reduced mass or pair order bookkeeping moves them by tens of percent.
+TEST_P(OpenCLScheme, TemperaturesAgreeWithTheCPUAtEveryFriction) {
+    // N = 375, mixed precision on OpenCL, double on the CPU: each scheme's T_kin and T_conf at gamma = 4.5
+    // and 40.5 (dt = 0.05, samples 5 steps apart) and 450 (dt = 0.02, 10 apart: the overdamped fluid's
+    // configurations decorrelate slowly) agree with the CPU platform's within 5 combined block standard
+    // errors (300 samples in 20 blocks).  The two sweep the same pairs in other orders, so they agree
+    // statistically, discretisation bias included, not bit for bit.  These are the frictions and steps
+    // where OpenMM 8.6.1's own DPDIntegrator on OpenCL (its simultaneous O update) measured T_kin/T =
+    // 1.138 (gamma = 40.5) and 330 (gamma = 450, dt = 0.02), its Reference sweep 0.994 and 0.998: there the
+    // exact successive sweep must also hold T_kin near 1 (5 SE + 6 % at dt = 0.05, ABOBA's own bias being
+    // up to +5 %; + 2 % at dt = 0.02).  VV's explicit dissipative force is unstable once gamma dt is of
+    // order 1 (Shang 2021 sec. 4): it runs gamma = 40.5 at dt = 0.005 and not gamma = 450, where it would
+    // need dt ~ 0.001 and far more steps than CI has for T_conf in so viscous a fluid.
+    // Measured here, |OpenCL - CPU| in combined SE over the 34 comparisons: mean 0.93 (0.80 expected of
+    // normal scatter), largest 2.0 for T_kin and 3.4 for T_conf (S1 at gamma = 450: 0.997 +- 0.007 against
+    // 1.032 +- 0.007; ten other seeds of the CPU run scatter by 0.007 about 1.015, as their SEs say, and
+    // OpenCL after a longer equilibration gives 1.015 and 1.018: a tail of the scatter, not a bias).
     EquilibratedFluid start = equilibratedSoftFluid(375);
-    Temperatures t = measureOnOpenCL(start, GetParam(), 4.5, 0.05, 300, 5);
-    EXPECT_TRUE(nearOne(t.kinetic, 0.06)) << "T_kin";
-    EXPECT_TRUE(nearOne(t.configurational, 0.12)) << "T_conf";
+    bool explicitFriction = GetParam() == "VV";
+    struct Setting {
+        double friction, dt;
+        int stepsPerSample;
+        double kineticAllowance; // < 0: T_kin against the CPU's only
+    };
+    std::vector<Setting> settings = {{4.5, 0.05, 5, -1.0}, {40.5, explicitFriction ? 0.005 : 0.05, 5, 0.06}};
+    if (!explicitFriction)
+        settings.push_back({450.0, 0.02, 10, 0.02});
+    for (const Setting& setting : settings) {
+        SCOPED_TRACE("gamma = "+std::to_string(setting.friction)+", dt = "+std::to_string(setting.dt));
+        Temperatures device = measureTemperatures(start, "OpenCL", GetParam(), setting.friction, setting.dt, setting.stepsPerSample);
+        Temperatures host = measureTemperatures(start, "CPU", GetParam(), setting.friction, setting.dt, setting.stepsPerSample);
+        EXPECT_TRUE(agreeWithinError(device.kinetic, host.kinetic)) << "T_kin";
+        EXPECT_TRUE(agreeWithinError(device.configurational, host.configurational)) << "T_conf";
+        if (setting.kineticAllowance > 0.0) {
+            EXPECT_TRUE(nearOne(device.kinetic, setting.kineticAllowance)) << "T_kin";
+        }
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Schemes, OpenCLScheme, ::testing::ValuesIn(allSchemes),
                          [](const ::testing::TestParamInfo<std::string>& info) { return testName(info.param); });
-
-TEST(OpenCLPlatform, SuccessiveSweepHoldsTheTemperatureWhereOpenMMsSimultaneousUpdateHeats) {
-    // OpenMM 8.6.1's own DPDIntegrator on OpenCL measured T_kin/T = 1.138 at gamma = 40.5, dt = 0.05 and
-    // 330 at gamma = 450, dt = 0.02 (its simultaneous O update); its Reference sweep gave 0.994 and 0.998.
-    // Our exact successive sweep on the same platform must hold T_kin within 5 SE + the schemes' own
-    // discretisation bias: at dt = 0.05 up to +5% (ABOBA's, measured on the CPU at gamma = 4.5; BAOAB's
-    // is -3%), allowance 6%; at dt = 0.02 below 1%, allowance 2%.  Measured here: 1.038, 1.013, 0.973
-    // (gamma = 40.5) and 1.010, 1.000, 0.993 (gamma = 450), each +- 0.003 to 0.005.
-    EquilibratedFluid start = equilibratedSoftFluid(375);
-    for (const char* scheme : {"ABOBA", "S1", "BAOAB"}) {
-        Temperatures viscous = measureOnOpenCL(start, scheme, 40.5, 0.05, 200, 5);
-        EXPECT_TRUE(nearOne(viscous.kinetic, 0.06)) << scheme << " gamma = 40.5: T_kin";
-        Temperatures stiff = measureOnOpenCL(start, scheme, 450.0, 0.02, 200, 5);
-        EXPECT_TRUE(nearOne(stiff.kinetic, 0.02)) << scheme << " gamma = 450: T_kin";
-    }
-}
 
 TEST(OpenCLPlatform, MomentumIsConservedToRoundOffOver10000Steps) {
     // Double precision: the conservative forces sum to exactly zero (fixed-point pair forces) and each
