@@ -3,6 +3,7 @@
 // kappa = 0.2, checkpoints, XML and bad input.
 
 #include "DPDTestSupport.h"
+#include "LeesEdwardsTestSupport.h"
 #include "DPDLeesEdwardsFlow.h"
 #include "openmmdpd/DPDShearProfile.h"
 #include "openmm/CustomNonbondedForce.h"
@@ -36,17 +37,6 @@ protected:
 /** The offset kappa L_y t reduced into [-L_x/2, L_x/2]. */
 double DPDLeesEdwardsOffsetForTest(double offset, double L) {
     return offset - L*std::floor(offset/L + 0.5);
-}
-
-/** Remove the mean velocity, so that the total (peculiar) momentum is zero to round-off. */
-void zeroMomentum(Context& context) {
-    std::vector<Vec3> velocities = context.getState(State::Velocities).getVelocities();
-    Vec3 mean;
-    for (const Vec3& v : velocities)
-        mean += v/static_cast<double>(velocities.size());
-    for (Vec3& v : velocities)
-        v -= mean;
-    context.setVelocities(velocities);
 }
 
 } // namespace
@@ -123,55 +113,6 @@ TEST(LeesEdwardsPlatforms, ShearChangesTheTrajectoryOnlyThroughTheFlow) {
     EXPECT_TRUE(bitIdentical(result[0], result[1]));
     EXPECT_GT(maxAbsDifference(result[0].velocities, result[2].velocities), 1e-3);
 }
-
-namespace {
-
-/** The streaming profile <v_x>(y) in the lab frame (v + kappa y e_x) over equal bins of y, and the fit of its slope. */
-struct StreamingProfile {
-    std::vector<BlockEstimate> bins;
-    BlockEstimate slope;
-    BlockEstimate kineticTemperature, configurationalTemperature; // in units of the target kT
-};
-
-StreamingProfile measureProfile(Context& context, DPDIntegrator& integrator, double kappa, int numBins, int numSamples, int stepsPerSample) {
-    std::vector<std::vector<double> > binSeries(numBins);
-    std::vector<double> slopeSeries, kinetic, gradientSquared, laplacian;
-    for (int sample = 0; sample < numSamples; sample++) {
-        integrator.step(stepsPerSample);
-        kinetic.push_back(DPDObservables::kineticTemperature(context)/reducedTemperature); // peculiar velocities
-        if (sample%4 == 0) {
-            DPDObservables::ConfigurationalSums sums = DPDObservables::configurationalSums(context);
-            gradientSquared.push_back(sums.gradientSquared);
-            laplacian.push_back(sums.laplacian); // kT = 1 kJ/mol: <|grad U|^2>/<lap U> is T_conf/T
-        }
-        State state = context.getState(State::Positions | State::Velocities);
-        Vec3 a, b, c;
-        state.getPeriodicBoxVectors(a, b, c);
-        double L = b[1];
-        std::vector<double> sum(numBins, 0.0), count(numBins, 0.0);
-        double sxy = 0.0, syy = 0.0, sx = 0.0, sy = 0.0, n = 0.0;
-        for (std::size_t i = 0; i < state.getPositions().size(); i++) {
-            double y = state.getPositions()[i][1];
-            double vx = state.getVelocities()[i][0] + kappa*y; // lab frame
-            int bin = std::min(numBins-1, static_cast<int>(y/L*numBins));
-            sum[bin] += vx;
-            count[bin] += 1.0;
-            sxy += y*vx; syy += y*y; sx += vx; sy += y; n += 1.0;
-        }
-        for (int k = 0; k < numBins; k++)
-            binSeries[k].push_back(count[k] > 0 ? sum[k]/count[k] : 0.0);
-        slopeSeries.push_back((sxy - sx*sy/n)/(syy - sy*sy/n)); // least-squares slope of v_x against y
-    }
-    StreamingProfile profile;
-    for (const auto& series : binSeries)
-        profile.bins.push_back(blockAverage(series));
-    profile.slope = blockAverage(slopeSeries);
-    profile.kineticTemperature = blockAverage(kinetic);
-    profile.configurationalTemperature = blockRatio(gradientSquared, laplacian);
-    return profile;
-}
-
-} // namespace
 
 TEST(LeesEdwardsProfile, StreamingProfileIsLinearWithoutAJumpAtTheBoundary) {
     // The paper's sheared scene (gamma = 450, kappa = 0.2, N = 500, rho = 3) at h = 0.01 with S1 and ABOBA.
