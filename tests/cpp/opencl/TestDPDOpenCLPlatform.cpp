@@ -169,9 +169,10 @@ TEST_P(OpenCLScheme, TemperaturesAgreeWithTheCPUAtEveryFriction) {
     // where OpenMM 8.6.1's own DPDIntegrator on OpenCL (its simultaneous O update) measured T_kin/T =
     // 1.138 (gamma = 40.5) and 330 (gamma = 450, dt = 0.02), its Reference sweep 0.994 and 0.998: there the
     // exact successive sweep must also hold T_kin near 1 (5 SE + 6 % at dt = 0.05, ABOBA's own bias being
-    // up to +5 %; + 2 % at dt = 0.02).  VV's explicit dissipative force is unstable once gamma dt is of
-    // order 1 (Shang 2021 sec. 4): it runs gamma = 40.5 at dt = 0.005 and not gamma = 450, where it would
-    // need dt ~ 0.001 and far more steps than CI has for T_conf in so viscous a fluid.
+    // up to +5 %; + 2 % at dt = 0.02).  VV's explicit dissipative force turns unstable near gamma dt ~ 2
+    // (Shang 2021 sec. 3.2.1, Figs. 1-2: just over dt = 0.05 at gamma = 40.5, 0.01 at gamma = 200), its
+    // error growing fast before: it runs gamma = 40.5 at dt = 0.005, and not gamma = 450, where it would
+    // need dt < 0.004 and far more steps than CI has for T_conf in so viscous a fluid.
     // Measured here, |OpenCL - CPU| in combined SE over the 34 comparisons: mean 0.93 (0.80 expected of
     // normal scatter), largest 2.0 for T_kin and 3.4 for T_conf (S1 at gamma = 450: 0.997 +- 0.007 against
     // 1.032 +- 0.007; ten other seeds of the CPU run scatter by 0.007 about 1.015, as their SEs say, and

@@ -139,7 +139,7 @@ TEST(OpenCLTransport, NEMDAndNortonAgreeWithTheCPU) {
     // eq. 63) at r = 1.5, from 20 blocks of 100 steps after 200, on OpenCL (mixed) and on the CPU:
     // each pair of means agrees within 5 combined block standard errors, and each OpenCL mean is 5 of its
     // standard errors from zero.  Norton's forcing scatters about as much at any r (a block's sd ~1.2 at
-    // N = 300), so r sets its signal: at r = 0.5 (forcing ~1.6) the signal check held on one machine (1.72 +-
+    // N = 300; Wu & Shang Fig. 4: the mobility estimator's variance scales as r^-2), so r sets its signal: at r = 0.5 (forcing ~1.6) the signal check held on one machine (1.72 +-
     // 0.17) and failed on another, whose CPU takes other vector paths and so another trajectory (1.56 +-
     // 0.43).  At r = 1.5, on a machine without AVX-512, seeds 17, 5, 9: forcing 4.95 +- 0.35, 5.10 +- 0.28,
     // 5.50 +- 0.21 (OpenCL), 5.18 +- 0.34, 5.42 +- 0.26, 5.56 +- 0.23 (CPU): 14-26 standard errors;
