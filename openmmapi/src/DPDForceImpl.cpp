@@ -20,6 +20,12 @@ std::vector<std::string> DPDForceImpl::getKernelNames() {
     return {CalcDPDForceKernel::Name()};
 }
 
+void DPDForceImpl::checkEveryDPDForceFitsBox(OpenMM::ContextImpl& context, int groups) {
+    for (OpenMM::ForceImpl* impl : context.getForceImpls())
+        if (auto* force = dynamic_cast<DPDForceImpl*>(impl); force != nullptr && (groups & (1 << force->owner.getForceGroup())) != 0)
+            force->kernel.getAs<const CalcDPDForceKernel>().checkParametersFitBox(context);
+}
+
 void DPDForceImpl::updateParametersInContext(OpenMM::ContextImpl& context) {
     kernel.getAs<CalcDPDForceKernel>().copyParametersToContext(context, owner);
     parametersInContext = owner.getTable().compile(context.getSystem().getNumParticles());

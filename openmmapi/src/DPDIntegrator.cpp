@@ -165,9 +165,13 @@ void DPDIntegrator::initialize(OpenMM::ContextImpl& contextRef) {
     owner = &contextRef.getOwner();
     kernel = context->getPlatform().createKernel(IntegrateDPDStepKernel::Name(), contextRef);
     kernel.getAs<IntegrateDPDStepKernel>().initialize(contextRef, *this);
+    // Bound, a change of the friction table that no step could use is refused where it is made, with
+    // the step's message (the table undoes it), not at the next step after that moved the particles.
+    table.setChangeCheck([this](const DPDTypePairTable& changed) { kernel.getAs<const IntegrateDPDStepKernel>().checkFrictionTable(changed); });
 }
 
 void DPDIntegrator::cleanup() {
+    table.setChangeCheck(nullptr);
     kernel = OpenMM::Kernel();
 }
 

@@ -2,12 +2,12 @@
 #include "openmmdpd/internal/DPDBondedTerms.h"
 #include "openmmdpd/internal/DPDContextAccess.h"
 #include "openmmdpd/internal/DPDFiniteDifferenceEstimator.h"
+#include "openmmdpd/internal/DPDNeighborSearch.h"
 #include "openmmdpd/internal/DPDPairPotentialTerms.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/State.h"
 #include "openmm/System.h"
-#include "openmm/reference/ReferenceNeighborList.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include <cmath>
 #include <functional>
@@ -35,15 +35,7 @@ void forEachPairWithin(const OpenMM::State& state, double maxDistance, const std
     if (maxDistance == 0.0) // no pair potential (bonded or estimated forces alone)
         return;
     DPDPeriodicBox::checkCutoff("DPDObservables", maxDistance, box);
-    OpenMM::NeighborList neighbors;
-    std::vector<std::set<int> > noExclusions(positions.size());
-    OpenMM::computeNeighborListVoxelHash(neighbors, positions.size(), positions, noExclusions, box, true, maxDistance);
-    for (const OpenMM::AtomPair& pair : neighbors) {
-        Vec3 delta = DPDPeriodicBox::minimumImage(positions[pair.first]-positions[pair.second], box);
-        double r = std::sqrt(delta.dot(delta));
-        if (r < maxDistance && r > 0.0)
-            visit(pair.first, pair.second, r);
-    }
+    DPDNeighborSearch::forEachPairWithin(positions, box, maxDistance, [&](int i, int j, const Vec3&, double r) { visit(i, j, r); });
 }
 
 double volume(const OpenMM::State& state) {

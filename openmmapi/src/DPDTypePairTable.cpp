@@ -60,16 +60,39 @@ void DPDTypePairTable::checkUnique(int type1, int type2, int ignoredIndex) const
     }
 }
 
+template <class Change>
+void DPDTypePairTable::applyChange(Change&& change) {
+    if (!changeCheck.check) {
+        change();
+        revision++;
+        return;
+    }
+    double oldValue = defaultValue, oldCutoff = defaultCutoff;
+    std::map<int, int> oldTypes = particleTypes;
+    std::vector<TypePair> oldPairs = typePairs;
+    change();
+    revision++;
+    try {
+        changeCheck.check(*this);
+    }
+    catch (...) { // the table as it was, revision included: the bound Context sees no change
+        defaultValue = oldValue;
+        defaultCutoff = oldCutoff;
+        particleTypes = std::move(oldTypes);
+        typePairs = std::move(oldPairs);
+        revision--;
+        throw;
+    }
+}
+
 void DPDTypePairTable::setDefaultValue(double value) {
     checkValue(value);
-    defaultValue = value;
-    revision++;
+    applyChange([&] { defaultValue = value; });
 }
 
 void DPDTypePairTable::setDefaultCutoff(double cutoff) {
     checkCutoff(cutoff);
-    defaultCutoff = cutoff;
-    revision++;
+    applyChange([&] { defaultCutoff = cutoff; });
 }
 
 int DPDTypePairTable::getParticleType(int index) const {
@@ -84,8 +107,7 @@ void DPDTypePairTable::setParticleType(int index, int type) {
         throw OpenMMException(message.str());
     }
     checkType(type, "particle type");
-    particleTypes[index] = type;
-    revision++;
+    applyChange([&] { particleTypes[index] = type; });
 }
 
 int DPDTypePairTable::addTypePair(int type1, int type2, double value, double cutoff) {
@@ -94,8 +116,7 @@ int DPDTypePairTable::addTypePair(int type1, int type2, double value, double cut
     checkValue(value);
     checkCutoff(cutoff);
     checkUnique(type1, type2, -1);
-    typePairs.push_back({type1, type2, value, cutoff});
-    revision++;
+    applyChange([&] { typePairs.push_back({type1, type2, value, cutoff}); });
     return getNumTypePairs()-1;
 }
 
@@ -119,8 +140,7 @@ void DPDTypePairTable::setTypePair(int pairIndex, int type1, int type2, double v
     checkValue(value);
     checkCutoff(cutoff);
     checkUnique(type1, type2, pairIndex);
-    typePairs[pairIndex] = {type1, type2, value, cutoff};
-    revision++;
+    applyChange([&] { typePairs[pairIndex] = {type1, type2, value, cutoff}; });
 }
 
 DPDTypePairTable::Compiled DPDTypePairTable::compile(int numParticles) const {

@@ -6,6 +6,7 @@ import openmm
 import openmm.unit as unit
 
 from . import _openmmdpd
+from ._class_names import check_cast
 from ._type_pairs import TypePairMethods
 from ._units import Number, value_in
 
@@ -34,8 +35,9 @@ class DPDForce(openmm.Force, TypePairMethods):
     @staticmethod
     def cast(force: openmm.Force) -> "DPDForce":
         """View a Force that is a DPDForce (e.g. from XmlSerializer.deserialize or System.getForce) as one."""
+        check_cast(force, openmm.Force, "openmm.Force", "openmmdpd.DPDForce")
         if not _openmmdpd.is_dpd_force(force):
-            raise TypeError(f"{force!r} is not a DPDForce")
+            raise TypeError(f"openmmdpd.DPDForce.cast: the openmm.Force {force!r} is not a DPDForce")
         view = DPDForce.__new__(DPDForce)
         view.this = force.this  # the same SwigPyObject: one owner, freed when the last proxy goes
         return view

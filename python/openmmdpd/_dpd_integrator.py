@@ -8,6 +8,7 @@ import openmm
 import openmm.unit as unit
 
 from . import _openmmdpd
+from ._class_names import check_cast
 from ._type_pairs import TypePairMethods
 from ._units import Number, value_in
 
@@ -89,8 +90,9 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
     def cast(integrator: openmm.Integrator) -> "DPDIntegrator":
         """View an Integrator that is a DPDIntegrator (e.g. from ``XmlSerializer.deserialize``) as one;
         raises TypeError for any other integrator."""
+        check_cast(integrator, openmm.Integrator, "openmm.Integrator", "openmmdpd.DPDIntegrator")
         if not _openmmdpd.is_dpd_integrator(integrator):
-            raise TypeError(f"{integrator!r} is not a DPDIntegrator")
+            raise TypeError(f"openmmdpd.DPDIntegrator.cast: the openmm.Integrator {integrator!r} is not a DPDIntegrator")
         view = DPDIntegrator.__new__(DPDIntegrator)
         view.this = integrator.this
         return view

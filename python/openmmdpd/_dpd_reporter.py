@@ -11,6 +11,7 @@ import openmm.app as app
 import openmm.unit as unit
 
 from . import _observables, _openmmdpd
+from ._class_names import article, class_name
 from ._dpd_integrator import DPDIntegrator
 from .shear import PARTS, StressStatistics
 
@@ -42,18 +43,6 @@ def _dpd_integrator_of(integrator: openmm.Integrator) -> Optional[DPDIntegrator]
         return integrator
     is_ours = _openmmdpd.is_dpd_integrator(integrator)  # False for OpenMM's own classes
     return DPDIntegrator.cast(integrator) if is_ours else None
-
-
-def _class_name(integrator: object) -> str:
-    """``openmm.VerletIntegrator``, ``openmmdpd.DPDIntegrator``: the names users write, which tell
-    OpenMM's DPDIntegrator from the plugin's."""
-    cls = type(integrator)
-    package = cls.__module__.split(".")[0]
-    return f"{package}.{cls.__qualname__}" if package in ("openmm", "openmmdpd") else f"{cls.__module__}.{cls.__qualname__}"
-
-
-def _article(name: str) -> str:
-    return "an" if name[:1].lower() in "aeiou" else "a"
 
 
 _NO_STRESS = StressStatistics(0, *(np.zeros((3, 3)) for _ in PARTS))
@@ -141,8 +130,16 @@ class DPDReporter:
         self._reportInterval = int(reportInterval)
         self._separator = separator
         self._append = append
-        self._ownsFile = isinstance(file, (str, os.PathLike))
-        self._out: TextIO = open(file, "a" if append else "w") if self._ownsFile else file
+        owns_file = isinstance(file, (str, os.PathLike))
+        if owns_file:
+            try:
+                self._out: TextIO = open(file, "a" if append else "w")
+            except OSError as error:  # the same exception class (FileNotFoundError, PermissionError ...), saying whose
+                raise type(error)(error.errno, f"DPDReporter: cannot open {os.fsdecode(file)!r} for "
+                                  f"{'appending' if append else 'writing'}: {error.strerror}") from None
+        else:
+            self._out = file
+        self._ownsFile = owns_file  # only once there is a file for __del__ to close
         self._columns: Optional[List[Column]] = None
         self._headerWritten = False
         # The stress columns: the integrator they read, its statistics at the previous report (or at
@@ -167,9 +164,9 @@ class DPDReporter:
         """One sentence for each column asked for that ``integrator`` (``ours``: it as the plugin's
         integrator, or None) cannot produce."""
         if ours is None:
-            name = _class_name(integrator)
+            name = class_name(integrator)
             mode = None
-            instead = {column: f"is {_article(name)} {name}, not an openmmdpd.DPDIntegrator" for column in _NEEDS}
+            instead = {column: f"is {article(name)} {name}, not an openmmdpd.DPDIntegrator" for column in _NEEDS}
         else:
             mode = ours.getForcing()[0]
             forcing = "runs no forcing" if mode == "none" else f"runs {mode} forcing"

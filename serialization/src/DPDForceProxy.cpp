@@ -1,6 +1,7 @@
 #include "openmmdpd/DPDForceProxy.h"
 #include "openmmdpd/DPDForce.h"
 #include "openmmdpd/DPDTypePairTableSerializer.h"
+#include "openmmdpd/DPDXmlAttributes.h"
 #include "openmm/OpenMMException.h"
 #include <memory>
 
@@ -17,11 +18,12 @@ void DPDForceProxy::serialize(const void* object, OpenMM::SerializationNode& nod
 }
 
 void* DPDForceProxy::deserialize(const OpenMM::SerializationNode& node) const {
-    if (node.getIntProperty("version") != 1)
+    DPDXmlAttributes attributes(node, "DPDForceProxy");
+    if (attributes.integer("version") != 1)
         throw OpenMM::OpenMMException("DPDForceProxy: unsupported version number");
-    auto force = std::make_unique<DPDForce>(node.getDoubleProperty("a"), node.getDoubleProperty("cutoff"));
-    force->setName(node.getStringProperty("name", force->getName()));
-    force->setForceGroup(node.getIntProperty("forceGroup", 0));
-    DPDTypePairTableSerializer::read(node, "a", force->getTable());
+    auto force = std::make_unique<DPDForce>(attributes.real("a"), attributes.real("cutoff"));
+    force->setName(attributes.text("name", force->getName()));
+    force->setForceGroup(attributes.integer("forceGroup", 0));
+    DPDTypePairTableSerializer::read(node, "a", "DPDForceProxy", force->getTable());
     return force.release();
 }

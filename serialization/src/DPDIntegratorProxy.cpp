@@ -4,6 +4,7 @@
 #include "openmmdpd/DPDShearProfile.h"
 #include "openmmdpd/DPDTwoDrifts.h"
 #include "openmmdpd/DPDTypePairTableSerializer.h"
+#include "openmmdpd/DPDXmlAttributes.h"
 #include "openmm/OpenMMException.h"
 #include <memory>
 
@@ -35,34 +36,40 @@ void DPDIntegratorProxy::serialize(const void* object, OpenMM::SerializationNode
 }
 
 void* DPDIntegratorProxy::deserialize(const OpenMM::SerializationNode& node) const {
-    if (node.getIntProperty("version") != 1)
+    DPDXmlAttributes attributes(node, "DPDIntegratorProxy");
+    if (attributes.integer("version") != 1)
         throw OpenMM::OpenMMException("DPDIntegratorProxy: unsupported version number");
-    auto integrator = std::make_unique<DPDIntegrator>(node.getDoubleProperty("temperature"), node.getDoubleProperty("friction"),
-                                                      node.getDoubleProperty("cutoff"), node.getDoubleProperty("stepSize"),
-                                                      node.getStringProperty("scheme"));
-    integrator->setConstraintTolerance(node.getDoubleProperty("constraintTolerance"));
-    integrator->setIntegrationForceGroups(node.getIntProperty("integrationForceGroups"));
-    integrator->setRandomNumberSeed(node.getIntProperty("randomSeed"));
-    integrator->setLeesEdwards(node.getDoubleProperty("shearRate", 0.0)); // absent in files written before Lees-Edwards
-    integrator->setStressAccumulation(node.getBoolProperty("stressAccumulation", false));
-    DPDTypePairTableSerializer::read(node, "friction", integrator->getTable());
+    auto integrator = std::make_unique<DPDIntegrator>(attributes.real("temperature"), attributes.real("friction"),
+                                                      attributes.real("cutoff"), attributes.real("stepSize"),
+                                                      attributes.text("scheme"));
+    integrator->setConstraintTolerance(attributes.real("constraintTolerance"));
+    integrator->setIntegrationForceGroups(attributes.integer("integrationForceGroups"));
+    integrator->setRandomNumberSeed(attributes.integer("randomSeed"));
+    integrator->setLeesEdwards(attributes.real("shearRate", 0.0)); // absent in files written before Lees-Edwards
+    integrator->setStressAccumulation(attributes.boolean("stressAccumulation", false));
+    DPDTypePairTableSerializer::read(node, "friction", "DPDIntegratorProxy", integrator->getTable());
     for (const OpenMM::SerializationNode& forcing : node.getChildren()) {
         if (forcing.getName() != "Forcing")
             continue;
+        DPDXmlAttributes forcingAttributes(forcing, "DPDIntegratorProxy");
         std::unique_ptr<DPDForcingProfile> profile;
-        std::string type = forcing.getStringProperty("profile");
+        std::string type = forcingAttributes.text("profile");
         if (type == "ColourDrift")
             profile = std::make_unique<DPDColourDrift>();
         else if (type == "TwoDrifts")
             profile = std::make_unique<DPDTwoDrifts>();
         else if (type == "Shear")
-            profile = std::make_unique<DPDShearProfile>(DPDShearProfile::shapeFromName(forcing.getStringProperty("shape")));
+            profile = std::make_unique<DPDShearProfile>(DPDShearProfile::shapeFromName(forcingAttributes.text("shape")));
         else
-            throw OpenMM::OpenMMException("DPDIntegratorProxy: unknown forcing profile '"+type+"'");
-        if (forcing.getStringProperty("mode") == "NEMD")
-            integrator->setNEMD(*profile, forcing.getDoubleProperty("strength"));
+            throw OpenMM::OpenMMException("DPDIntegratorProxy: unknown forcing profile '"+type+"'; the profiles are ColourDrift, "
+                                          "TwoDrifts and Shear");
+        std::string mode = forcingAttributes.text("mode");
+        if (mode == "NEMD")
+            integrator->setNEMD(*profile, forcingAttributes.real("strength"));
+        else if (mode == "Norton")
+            integrator->setNorton(*profile, forcingAttributes.real("strength"));
         else
-            integrator->setNorton(*profile, forcing.getDoubleProperty("strength"));
+            throw OpenMM::OpenMMException("DPDIntegratorProxy: attribute mode of <Forcing> is '"+mode+"', which is not NEMD or Norton");
     }
     return integrator.release();
 }

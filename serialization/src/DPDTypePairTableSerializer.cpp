@@ -1,4 +1,5 @@
 #include "openmmdpd/DPDTypePairTableSerializer.h"
+#include "openmmdpd/DPDXmlAttributes.h"
 
 using namespace OpenMMDPD;
 
@@ -14,10 +15,14 @@ void DPDTypePairTableSerializer::write(const DPDTypePairTable& table, const char
     }
 }
 
-void DPDTypePairTableSerializer::read(const OpenMM::SerializationNode& node, const char* valueName, DPDTypePairTable& table) {
-    for (const OpenMM::SerializationNode& particle : node.getChildNode("ParticleTypes").getChildren())
-        table.setParticleType(particle.getIntProperty("index"), particle.getIntProperty("type"));
-    for (const OpenMM::SerializationNode& pair : node.getChildNode("TypePairs").getChildren())
-        table.addTypePair(pair.getIntProperty("type1"), pair.getIntProperty("type2"), pair.getDoubleProperty(valueName),
-                          pair.getDoubleProperty("cutoff"));
+void DPDTypePairTableSerializer::read(const OpenMM::SerializationNode& node, const char* valueName, const char* owner,
+                                      DPDTypePairTable& table) {
+    for (const OpenMM::SerializationNode& particle : node.getChildNode("ParticleTypes").getChildren()) {
+        DPDXmlAttributes attributes(particle, owner);
+        table.setParticleType(attributes.integer("index"), attributes.integer("type"));
+    }
+    for (const OpenMM::SerializationNode& pair : node.getChildNode("TypePairs").getChildren()) {
+        DPDXmlAttributes attributes(pair, owner);
+        table.addTypePair(attributes.integer("type1"), attributes.integer("type2"), attributes.real(valueName), attributes.real("cutoff"));
+    }
 }

@@ -110,7 +110,8 @@ public:
     void setTemperature(double temperature);
 
     // Changes to the friction table (setDefaultFriction ... setTypePairParameters) on a bound integrator
-    // take effect at the next step, where they are checked against the System and the box.
+    // take effect at the next step; they are checked where they are made, against the System and the
+    // Context's box by the platform's rule, and a change no step could use is refused (and undone) there.
     double getDefaultFriction() const { return table.getDefaultValue(); }
     void setDefaultFriction(double friction) { table.setDefaultValue(friction); }
     double getDefaultCutoff() const { return table.getDefaultCutoff(); }

@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_DPDTYPEPAIRTABLE_H_
 #define OPENMMDPD_DPDTYPEPAIRTABLE_H_
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -63,10 +64,28 @@ public:
      */
     unsigned long long getRevision() const { return revision; }
 
+    /**
+     * A check run after every change through the setters, which undoes a change it throws for.  A bound
+     * DPDIntegrator sets one that asks its platform whether a step could use the table in the Context's
+     * box, so that a cutoff no step could use is refused where it is set, with the message the step
+     * would give.  A copy of the table has no check.
+     */
+    void setChangeCheck(std::function<void(const DPDTypePairTable&)> check) { changeCheck.check = std::move(check); }
+
     /** The smallest cutoff accepted (nm): below it no physical pair force is resolved, and a cell search would need absurd numbers of cells. */
     static constexpr double minimumCutoff = 1e-3;
 
 private:
+    /** Holds the change check; copies of the table start without one (it belongs to the table's owner). */
+    struct ChangeCheck {
+        std::function<void(const DPDTypePairTable&)> check;
+        ChangeCheck() = default;
+        ChangeCheck(const ChangeCheck&) {}
+        ChangeCheck& operator=(const ChangeCheck&) { return *this; }
+    };
+    /** Apply `change` (which validates its arguments first), count it, and undo it if the change check throws. */
+    template <class Change>
+    void applyChange(Change&& change);
     void checkValue(double value) const;
     void checkCutoff(double cutoff) const;
     void checkType(int type, const char* what) const;
@@ -78,6 +97,7 @@ private:
     std::map<int, int> particleTypes;
     std::vector<TypePair> typePairs;
     unsigned long long revision = 0;
+    ChangeCheck changeCheck;
 };
 
 } // namespace OpenMMDPD

@@ -38,6 +38,12 @@ public:
     virtual void setRandomNumberSeed(int seed) = 0;
     virtual DPDIntegrator::StressStatistics getStressStatistics() const = 0;
     virtual void resetStressStatistics() = 0;
+    /**
+     * Throw what the next step would throw for this friction table (compiled against the System, its
+     * largest cutoff against the Context's current box by the platform's rule): DPDIntegrator asks it for
+     * every change of its table while bound, and undoes the change if it throws.
+     */
+    virtual void checkFrictionTable(const DPDTypePairTable& table) const = 0;
 };
 
 } // namespace OpenMMDPD

@@ -24,6 +24,8 @@ public:
     void initialize(const OpenMM::System& system, const DPDForce& force) override;
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
     void copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) override;
+    void checkCutoffFitsBox(OpenMM::ContextImpl& context, double maxCutoff) const override;
+    void checkParametersFitBox(OpenMM::ContextImpl& context) const override { checkCutoffFitsBox(context, parameters.maxCutoff); }
 
     /** The grid of the latest evaluation (cells at least getCutoff() wide), for a DPDIntegrator sweeping at the same positions. */
     CommonDPDCellGrid& getGrid() const { return *grid; }

@@ -35,6 +35,11 @@ public:
     };
     /** The grid for pairs closer than `radius` in this box (throws if the box is not rectangular or too small). */
     static Layout layOut(const OpenMM::Vec3* box, double radius, const char* owner);
+    /**
+     * Throw what a search for pairs closer than `radius` in the Context's current box would throw: the
+     * cutoff over half the box (DPDPeriodicBox::checkCutoff) or a box layOut refuses.
+     */
+    static void checkCutoffFitsBox(OpenMM::ComputeContext& cc, double radius, const char* owner);
 
     CommonDPDCellGrid(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program);
     /** Bin the particles at the Context's current positions for pairs closer than `radius`. */

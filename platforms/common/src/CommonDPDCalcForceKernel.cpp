@@ -38,6 +38,7 @@ void CommonDPDCalcForceKernel::copyParametersToContext(OpenMM::ContextImpl& cont
     DPDTypePairTable::Compiled updated = force.getTable().compile(context.getSystem().getNumParticles());
     if (updated.numTypes != parameters.numTypes)
         throw OpenMM::OpenMMException("DPDForce: updateParametersInContext cannot change the set of particle types");
+    checkCutoffFitsBox(context, updated.maxCutoff); // refused here, not at the next step after it moved the particles
     OpenMM::ContextSelector selector(cc);
     parameters = std::move(updated);
     uploadParameters(parameters);
@@ -49,11 +50,13 @@ void CommonDPDCalcForceKernel::setComputeVirial(bool compute) {
         virialRows.initialize<double>(cc, 6*cc.getNumAtoms(), "dpdVirialRows");
 }
 
+void CommonDPDCalcForceKernel::checkCutoffFitsBox(OpenMM::ContextImpl& context, double maxCutoff) const {
+    CommonDPDCellGrid::checkCutoffFitsBox(cc, maxCutoff, "DPDForce");
+}
+
 double CommonDPDCalcForceKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
     OpenMM::ContextSelector selector(cc);
-    OpenMM::Vec3 box[3];
-    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    DPDPeriodicBox::checkCutoff("DPDForce", parameters.maxCutoff, box);
+    checkParametersFitBox(context);
     grid->build(parameters.maxCutoff, "DPDForce");
     forceKernel.run(cc.getNumAtoms(), -1, cc.getNumAtoms(), cc.getPosq(), grid->getBoxSize(), grid->getInverseBoxSize(),
                     grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(),

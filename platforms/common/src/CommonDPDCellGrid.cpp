@@ -1,6 +1,7 @@
 #include "CommonDPDCellGrid.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
+#include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <cmath>
 #include <sstream>
 
@@ -53,6 +54,13 @@ CommonDPDCellGrid::CommonDPDCellGrid(OpenMM::ComputeContext& cc, OpenMM::Compute
     sort = CommonDPDKernel(program, "dpdSortCells");
     cellOf.initialize<int>(cc, cc.getPaddedNumAtoms(), "dpdCellOf");
     cellAtoms.initialize<int>(cc, cc.getPaddedNumAtoms(), "dpdCellAtoms");
+}
+
+void CommonDPDCellGrid::checkCutoffFitsBox(OpenMM::ComputeContext& cc, double radius, const char* owner) {
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    DPDPeriodicBox::checkCutoff(owner, radius, box);
+    layOut(box, radius, owner);
 }
 
 void CommonDPDCellGrid::build(double radius, const char* owner) {

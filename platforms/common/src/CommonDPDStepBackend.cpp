@@ -11,6 +11,7 @@
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -61,7 +62,7 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     storedForces.initialize<long long>(cc, 3*system.getNumParticles(), "dpdStoredForces");
     flags.initialize<int>(cc, 2, "dpdFailedSteps");
     cc.clearBuffer(flags);
-    uploadFriction(integrator);
+    uploadFriction(DPDFrictionTable::compile(system, integrator.getTable()), integrator.getTable().getRevision());
     Vec3 box[3];
     system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
@@ -99,14 +100,25 @@ void CommonDPDStepBackend::abandonStep() {
 
 CommonDPDStepBackend::~CommonDPDStepBackend() = default;
 
-void CommonDPDStepBackend::uploadFriction(const DPDIntegrator& integrator) {
-    DPDTypePairTable::Compiled updated = DPDFrictionTable::compile(context.getSystem(), integrator.getTable());
-    Vec3 box[3];
-    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    if (frictionValues.isInitialized()) // at construction the box is the System's default, checked there
-        DPDPeriodicBox::checkCutoff("DPDIntegrator", updated.maxCutoff, box);
+DPDTypePairTable::Compiled CommonDPDStepBackend::compileFriction(const DPDTypePairTable& table) const {
+    DPDTypePairTable::Compiled compiled = DPDFrictionTable::compile(context.getSystem(), table);
+    checkFrictionCutoffFitsBox(compiled);
+    return compiled;
+}
+
+void CommonDPDStepBackend::checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const {
+    if (compiled.allValuesZero) { // no sweep, so no cell grid of the integrator's own
+        Vec3 box[3];
+        cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        DPDPeriodicBox::checkCutoff("DPDIntegrator", compiled.maxCutoff, box);
+    }
+    else
+        CommonDPDCellGrid::checkCutoffFitsBox(cc, compiled.maxCutoff, "DPDIntegrator");
+}
+
+void CommonDPDStepBackend::uploadFriction(DPDTypePairTable::Compiled updated, unsigned long long revision) {
     friction = std::move(updated);
-    frictionRevision = integrator.getTable().getRevision();
+    frictionRevision = revision;
     typeOf.upload(friction.particleTypeIndex);
     int numValues = static_cast<int>(friction.value.size());
     if (!frictionValues.isInitialized()) {
@@ -123,32 +135,41 @@ void CommonDPDStepBackend::uploadFriction(const DPDIntegrator& integrator) {
 
 void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
     OpenMM::ContextSelector selector(cc);
-    if (integrator.getStressAccumulation()) { // before the step moves anything: throws for a force whose stress is not understood
+    // Every check that can refuse the step, before anything changes or moves (DPDStepBackend::beginStep).
+    bool stateSetFromOutside = externalStateUnchecked;
+    if (externalStateUnchecked)
+        checkExternalState();
+    DPDForceImpl::checkEveryDPDForceFitsBox(context, integrationGroups); // the box may have changed since the last step
+    std::optional<DPDTypePairTable::Compiled> updatedFriction;
+    if (integrator.getTable().getRevision() != frictionRevision)
+        updatedFriction = compileFriction(integrator.getTable());
+    else
+        checkFrictionCutoffFitsBox(friction);
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    DPDLeesEdwardsFlow& flow = shear->flow();
+    if (integrator.getShearRate() != 0.0) {
+        DPDLeesEdwardsFlow::checkBox(context.getSystem(), box, largestCutoff, integrator.getShearRate());
+        if (!flow.isBoundToContext()) // throws for a molecule the sheared box cannot keep whole
+            shear->bind(context);
+    }
+    if (integrator.getStressAccumulation()) { // throws for a force whose stress is not understood
         if (!otherForcesVirial)
             otherForcesVirial = std::make_unique<DPDConservativeVirial>(context, integrationGroups, sharedForceImpl);
         else // updateParametersInContext and setParameter since the last sample
             otherForcesVirial->refresh(context);
     }
+
+    externalStateUnchecked = false;
     forcedIntegrator = &integrator;
     kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
-    if (integrator.getTable().getRevision() != frictionRevision) {
-        uploadFriction(integrator);
+    if (updatedFriction.has_value()) { // setDefaultFriction ... on a bound integrator take effect here, at the next step
+        uploadFriction(std::move(*updatedFriction), integrator.getTable().getRevision());
         state.storedForcesValid = false; // VV's stored dissipative force used the old friction
         pairsAtCurrentPositions = false; // S1's stored pairs may not reach a larger cutoff
     }
-    bool stateSetFromOutside = externalStateUnchecked;
-    if (externalStateUnchecked) {
-        checkExternalState();
-        externalStateUnchecked = false;
-    }
-    Vec3 box[3];
-    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    DPDLeesEdwardsFlow& flow = shear->flow();
     flow.setShearRate(integrator.getShearRate());
     if (flow.isSheared()) {
-        DPDLeesEdwardsFlow::checkBox(context.getSystem(), box, largestCutoff, flow.getShearRate());
-        if (!flow.isBoundToContext())
-            shear->bind(context);
         // Positions set by the user may lie any number of box heights away: the sheared drift moves a
         // particle with the streaming velocity of where it is, so it starts from its image in the box.
         if (stateSetFromOutside) {

@@ -22,6 +22,8 @@ public:
     void initialize(const OpenMM::System& system, const DPDForce& force) override;
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
     void copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) override;
+    void checkCutoffFitsBox(OpenMM::ContextImpl& context, double maxCutoff) const override;
+    void checkParametersFitBox(OpenMM::ContextImpl& context) const override { checkCutoffFitsBox(context, parameters.maxCutoff); }
 
     /** The engine holding the pairs closer than the largest cutoff at the positions of the latest evaluation. */
     DPDPairEngine& getPairEngine() const { return *engine; }

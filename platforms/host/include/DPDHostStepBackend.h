@@ -39,6 +39,7 @@ public:
     DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, DPDSchemeState& state, DPDPairEngineFactory makeEngine);
 
     void beginStep(const DPDIntegrator& integrator) override;
+    DPDTypePairTable::Compiled compileFriction(const DPDTypePairTable& table) const override;
     bool isFrictionless() const override { return friction.allValuesZero; }
     int getNumParticles() const override { return static_cast<int>(masses.size()); }
     void endStep(double stepSize, double stressScale) override;
@@ -75,7 +76,7 @@ private:
     struct ContextArrays;
     ContextArrays arrays() const;
     /** Apply changes made to the integrator's friction table since the last step (validated here). */
-    void applyFrictionTableChanges(const DPDIntegrator& integrator);
+    void applyFrictionTableChanges(DPDTypePairTable::Compiled updated, unsigned long long revision);
     /** Throw, naming the particle, if a position or velocity set from outside is not finite. */
     void checkExternalState() const;
     /** The parameters of a pair sweep (each sweep draws new random numbers). */

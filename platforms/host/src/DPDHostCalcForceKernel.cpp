@@ -14,13 +14,19 @@ void DPDHostCalcForceKernel::copyParametersToContext(OpenMM::ContextImpl& contex
     DPDTypePairTable::Compiled updated = force.getTable().compile(context.getSystem().getNumParticles());
     if (updated.numTypes != parameters.numTypes)
         throw OpenMM::OpenMMException("DPDForce: updateParametersInContext cannot change the set of particle types");
+    checkCutoffFitsBox(context, updated.maxCutoff); // refused here, not at the next step after it moved the particles
     parameters = std::move(updated);
+}
+
+void DPDHostCalcForceKernel::checkCutoffFitsBox(OpenMM::ContextImpl& context, double maxCutoff) const {
+    auto* data = reinterpret_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    DPDPeriodicBox::checkCutoff("DPDForce", maxCutoff, data->periodicBoxVectors);
 }
 
 double DPDHostCalcForceKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
     auto* data = reinterpret_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
     const Vec3* box = data->periodicBoxVectors;
-    DPDPeriodicBox::checkCutoff("DPDForce", parameters.maxCutoff, box);
+    checkParametersFitBox(context);
     // The engine adds the forces of the pairs it finds (one pass); an energy-only call still finds
     // the pairs and throws the forces away.
     std::vector<Vec3>* forces = data->forces;

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <type_traits>
 #include <utility>
@@ -95,39 +96,46 @@ DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIn
 }
 
 void DPDHostStepBackend::beginStep(const DPDIntegrator& integrator) {
-    kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
-    if (integrator.getTable().getRevision() != frictionRevision)
-        applyFrictionTableChanges(integrator);
-    bool stateSetFromOutside = externalStateUnchecked;
-    if (externalStateUnchecked) {
-        // The drift catches what a step produces; what the user set is checked once, here, so that a
-        // NaN position cannot hide from the pair search (which drops NaN pairs) and run on silently.
-        checkExternalState();
-        externalStateUnchecked = false;
-    }
+    // Every check that can refuse the step, before anything changes or moves (DPDStepBackend::beginStep).
     ContextArrays current = arrays();
+    bool stateSetFromOutside = externalStateUnchecked;
+    if (externalStateUnchecked) // the drift catches what a step produces; what the user set is checked once, here, so
+        checkExternalState();   // that a NaN position cannot hide from the pair search (which drops NaN pairs)
+    DPDForceImpl::checkEveryDPDForceFitsBox(context, integrationGroups); // the box may have changed since the last step
+    std::optional<DPDTypePairTable::Compiled> updatedFriction;
+    if (integrator.getTable().getRevision() != frictionRevision)
+        updatedFriction = compileFriction(integrator.getTable());
+    else
+        DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, current.box);
+    if (integrator.getShearRate() != 0.0) {
+        DPDLeesEdwardsFlow::checkBox(context.getSystem(), current.box, largestCutoff, integrator.getShearRate());
+        if (!leesEdwards.isBoundToContext()) // throws for a molecule the sheared box cannot keep whole
+            leesEdwards.bindToContext(context);
+    }
+    if (integrator.getStressAccumulation()) // throws for a force whose stress is not understood
+        stress.beginSample(context, integrationGroups, sharedForceKernel != nullptr ? &sharedForceKernel->getPairEngine() : nullptr,
+                           sharedForceImpl, sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0);
+
+    externalStateUnchecked = false;
+    kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
+    if (updatedFriction.has_value()) // setDefaultFriction ... on a bound integrator take effect here, at the next step
+        applyFrictionTableChanges(std::move(*updatedFriction), integrator.getTable().getRevision());
     maxDisplacementPerDrift = 0.5*std::min(current.box[0][0], std::min(current.box[1][1], current.box[2][2]));
     for (int k = 0; k < 3; k++)
         if (current.box[k] != boxOfStoredForces[k])
             state.storedForcesValid = false;
     state.keepStoredForcesThroughStateChanges = false;
     forcedIntegrator = &integrator;
+    accumulateStress = integrator.getStressAccumulation();
+    stepPairStress = DPDPairStressSums();
     leesEdwards.setShearRate(integrator.getShearRate());
     if (leesEdwards.isSheared()) {
-        DPDLeesEdwardsFlow::checkBox(context.getSystem(), current.box, largestCutoff, leesEdwards.getShearRate());
-        if (!leesEdwards.isBoundToContext())
-            leesEdwards.bindToContext(context);
         // Positions set by the user may lie any number of box heights away: the sheared drift moves a
         // particle with the streaming velocity of where it is, so it starts from its image in the box.
         if (stateSetFromOutside)
             leesEdwards.wrapIntoPrimaryCell(current.positions, current.box);
         leesEdwards.beginStep(current.box);
     }
-    accumulateStress = integrator.getStressAccumulation();
-    stepPairStress = DPDPairStressSums();
-    if (accumulateStress) // the shared DPDForce's conservative part from its own force pass (DPDStressAccumulator::beginSample)
-        stress.beginSample(context, integrationGroups, sharedForceKernel != nullptr ? &sharedForceKernel->getPairEngine() : nullptr,
-                           sharedForceImpl, sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0);
 }
 
 void DPDHostStepBackend::endStep(double stepSize, double stressScale) {
@@ -273,14 +281,18 @@ void DPDHostStepBackend::checkExternalState() const {
     }
 }
 
-void DPDHostStepBackend::applyFrictionTableChanges(const DPDIntegrator& integrator) {
-    // setDefaultFriction, setDefaultCutoff, setParticleType, addTypePair ... on a bound integrator take
-    // effect here, at the next step, as LangevinMiddleIntegrator.setFriction does; compile() and the
-    // box check validate them now, so a value is never accepted and then silently left unused.
-    DPDTypePairTable::Compiled updated = DPDFrictionTable::compile(context.getSystem(), integrator.getTable());
-    DPDPeriodicBox::checkCutoff("DPDIntegrator", updated.maxCutoff, arrays().box);
+DPDTypePairTable::Compiled DPDHostStepBackend::compileFriction(const DPDTypePairTable& table) const {
+    // setDefaultFriction, setDefaultCutoff, setParticleType, addTypePair ... on a bound integrator:
+    // compile() and the box check validate them where they are set (DPDTypePairTable::setChangeCheck)
+    // and again at the next step, so a value is never accepted and then silently left unused.
+    DPDTypePairTable::Compiled compiled = DPDFrictionTable::compile(context.getSystem(), table);
+    DPDPeriodicBox::checkCutoff("DPDIntegrator", compiled.maxCutoff, arrays().box);
+    return compiled;
+}
+
+void DPDHostStepBackend::applyFrictionTableChanges(DPDTypePairTable::Compiled updated, unsigned long long revision) {
     friction = std::move(updated);
-    frictionRevision = integrator.getTable().getRevision();
+    frictionRevision = revision;
     state.storedForcesValid = false;      // VV's stored dissipative force used the old friction
     pairsAtCurrentPositions = nullptr;    // S1's stored pairs may not reach a larger cutoff
 }

@@ -3,8 +3,6 @@
 
 #include "DPDPairEngine.h"
 #include "DPDPairList.h"
-#include "openmm/reference/ReferenceNeighborList.h"
-#include <set>
 #include <vector>
 
 namespace OpenMMDPD {
@@ -31,8 +29,6 @@ private:
     template <class Visitor>
     void sweepDissipativePairs(const DPDPairSweep& sweep, Visitor&& visit) const;
     DPDPairList pairs;
-    OpenMM::NeighborList candidates;
-    std::vector<std::set<int> > noExclusions;
 };
 
 } // namespace OpenMMDPD

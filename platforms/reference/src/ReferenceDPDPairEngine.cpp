@@ -1,5 +1,6 @@
 #include "ReferenceDPDPairEngine.h"
 #include "DPDPairFormulas.h"
+#include "openmmdpd/internal/DPDNeighborSearch.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <algorithm>
 #include <cmath>
@@ -9,22 +10,11 @@ using OpenMM::Vec3;
 
 double ReferenceDPDPairEngine::findPairs(const std::vector<Vec3>& positions, const Vec3* box, double radius,
                                          const DPDTypePairTable::Compiled* repulsion, std::vector<Vec3>* forces) {
-    int numParticles = static_cast<int>(positions.size());
-    if (static_cast<int>(noExclusions.size()) != numParticles)
-        noExclusions.assign(numParticles, std::set<int>());
-    OpenMM::computeNeighborListVoxelHash(candidates, numParticles, positions, noExclusions, box, true, radius);
     pairs.radius = radius;
     pairs.pairs.clear();
-    double radius2 = radius*radius;
-    for (const OpenMM::AtomPair& candidate : candidates) {
-        int i = std::min(candidate.first, candidate.second), j = std::max(candidate.first, candidate.second);
-        Vec3 delta = DPDPeriodicBox::minimumImage(positions[i]-positions[j], box);
-        double r2 = delta.dot(delta);
-        if (r2 >= radius2 || r2 == 0.0)
-            continue;
-        double r = std::sqrt(r2);
+    DPDNeighborSearch::forEachPairWithin(positions, box, radius, [&](int i, int j, const Vec3& delta, double r) {
         pairs.pairs.push_back({i, j, r, delta/r});
-    }
+    });
     std::sort(pairs.pairs.begin(), pairs.pairs.end(), [](const DPDPair& a, const DPDPair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; });
     if (repulsion == nullptr)
         return 0.0;

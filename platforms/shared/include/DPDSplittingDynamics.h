@@ -41,6 +41,7 @@ public:
     void setRandomNumberSeed(int seed) { state.reseed(seed); }
     DPDIntegrator::StressStatistics getStressStatistics() const { return backend->stressStatistics(); }
     void resetStressStatistics() { backend->resetStressStatistics(); }
+    void checkFrictionTable(const DPDTypePairTable& table) const { backend->compileFriction(table); }
     /**
      * The message of a non-finite or runaway state (`what`: positions, velocities ...; particle -1:
      * unknown) found at `step`, for a backend that reports it after the step (the GPU platforms).

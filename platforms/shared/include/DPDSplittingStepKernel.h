@@ -22,6 +22,7 @@ public:
     void setRandomNumberSeed(int seed) override { dynamics->setRandomNumberSeed(seed); }
     DPDIntegrator::StressStatistics getStressStatistics() const override { return dynamics->getStressStatistics(); }
     void resetStressStatistics() override { dynamics->resetStressStatistics(); }
+    void checkFrictionTable(const DPDTypePairTable& table) const override { dynamics->checkFrictionTable(table); }
 
 protected:
     std::unique_ptr<DPDSplittingDynamics> dynamics;

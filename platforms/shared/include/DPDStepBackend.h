@@ -34,9 +34,16 @@ public:
     /**
      * Before a step: read the integrator's settings that may change between steps (temperature, shear
      * rate, friction table, stress accumulation), check what was set from outside, and begin the
-     * stress sample.
+     * stress sample.  Every check that can refuse the step (a cutoff of the integrator or of a DPDForce
+     * that the box no longer holds, a non-finite state set from outside, a Lees-Edwards box) runs here,
+     * before anything moves: a refused step leaves the state as it was.
      */
     virtual void beginStep(const DPDIntegrator& integrator) = 0;
+    /**
+     * The friction table compiled against the System, throwing unless a step of this platform could use
+     * its largest cutoff in the Context's current box (the message the step would give); changes nothing.
+     */
+    virtual DPDTypePairTable::Compiled compileFriction(const DPDTypePairTable& table) const = 0;
     /** Every friction of the integrator's table is zero (no O sweep, no random numbers). */
     virtual bool isFrictionless() const = 0;
     virtual int getNumParticles() const = 0;

@@ -10,7 +10,8 @@ namespace OpenMMDPD {
 class DPDTypePairTableSerializer {
 public:
     static void write(const DPDTypePairTable& table, const char* valueName, OpenMM::SerializationNode& node);
-    static void read(const OpenMM::SerializationNode& node, const char* valueName, DPDTypePairTable& table);
+    /** Reads strictly (DPDXmlAttributes); `owner` (the proxy) starts the message of a malformed attribute. */
+    static void read(const OpenMM::SerializationNode& node, const char* valueName, const char* owner, DPDTypePairTable& table);
 };
 
 } // namespace OpenMMDPD

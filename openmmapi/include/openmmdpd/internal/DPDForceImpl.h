@@ -21,6 +21,12 @@ public:
     std::map<std::string, double> getDefaultParameters() override { return {}; }
     std::vector<std::string> getKernelNames() override;
     void updateParametersInContext(OpenMM::ContextImpl& context);
+    /**
+     * Throw what the force evaluation of a step would throw for the box of every DPDForce in the force
+     * groups `groups` (its cutoff too large for the Context's current box): a step calls it before it moves
+     * anything, so that a refused step leaves the state as it was.
+     */
+    static void checkEveryDPDForceFitsBox(OpenMM::ContextImpl& context, int groups);
     /** The platform kernel, through which an integrator of the same platform may share the pair list. */
     OpenMM::Kernel& getKernel() { return kernel; }
     /**
