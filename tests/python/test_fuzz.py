@@ -10,6 +10,7 @@ a bounded example count, small systems and at most a few steps per example."""
 
 import io
 import math
+import os
 
 import numpy as np
 import openmm as mm
@@ -22,9 +23,21 @@ import openmmdpd as dpd
 
 CLEAN_ERRORS = (mm.OpenMMException, TypeError, ValueError, OverflowError)
 FUZZ_EXAMPLES = 600
+# The OpenCL platform (pocl on the CPU where there is no GPU: each Context compiles its kernels, so fewer
+# examples; or the platform OPENMMDPD_GPU_PLATFORM names).
+GPU_PLATFORM = os.environ.get("OPENMMDPD_GPU_PLATFORM") or "OpenCL"
+HAS_GPU_PLATFORM = GPU_PLATFORM in [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
+GPU_EXAMPLES = 30
 
 # Numbers a hostile caller passes: boundaries and the unrepresentable.
 hostile_numbers = st.sampled_from([0.0, -0.0, -1.0, 1e-300, 1e-7, 1e-6, 1e300, math.inf, -math.inf, math.nan])
+
+
+def least_particles(platforms) -> int:
+    """One particle on the host platforms; two on OpenCL, where OpenMM's own energy evaluation of a
+    one-particle System crashes the process under pocl with any force (a CustomNonbondedForce and a
+    VerletIntegrator alone), before the plugin is involved."""
+    return 1 if set(platforms) <= {"Reference", "CPU"} else 2
 
 
 def assert_finite(values, what):
@@ -33,11 +46,11 @@ def assert_finite(values, what):
 
 
 @st.composite
-def scenarios(draw):
+def scenarios(draw, platforms=("Reference", "CPU")):
     """A valid scenario (zero masses, attraction, huge frictions and blow-up step sizes included), of
     which about half get one parameter replaced by a hostile number, so that both the checks and the
     dynamics behind them are exercised."""
-    n = draw(st.integers(1, 40))
+    n = draw(st.integers(least_particles(platforms), 40))
     box = draw(st.floats(2.1, 10.0))
     scenario = dict(
         n=n,
@@ -56,7 +69,7 @@ def scenarios(draw):
         forcing=draw(st.sampled_from([None, None, "NEMD", "Norton"])),
         profile=draw(st.sampled_from(["colour", "two", "sinusoidal", "piecewise_linear", "piecewise_constant"])),
         strength=draw(st.floats(-10.0, 10.0)),
-        platform=draw(st.sampled_from(["Reference", "CPU"])),
+        platform=draw(st.sampled_from(platforms)),
         steps=draw(st.integers(1, 4)),
         poison=None,
         later_friction=draw(st.one_of(st.none(), st.floats(0.0, 100.0))),
@@ -136,7 +149,7 @@ def run_scenario(s):
             # A byte of the integrator's block, or of the positions OpenMM restores before it.  Not the
             # bytes of OpenMM's own platform records: OpenMM's CPU platform reads sizes there unchecked,
             # and a flipped size makes it allocate tens of GB before the plugin sees the stream.
-            if s["flip_at"] < 0.5:
+            if s["flip_at"] < 0.5 or s["platform"] not in ("Reference", "CPU"):  # the GPU platforms store positions in their own layout
                 block = checkpoint.rfind(b"DPD-CKPT")
                 where = block + int(2 * s["flip_at"] * (len(checkpoint) - block - 1))
             else:
@@ -179,6 +192,16 @@ def test_every_input_ends_in_a_clean_exception_or_a_finite_state(scenario):
         pass
 
 
+@pytest.mark.skipif(not HAS_GPU_PLATFORM, reason=f"OpenMM has no {GPU_PLATFORM} platform here")
+@settings(max_examples=GPU_EXAMPLES, derandomize=True, database=None, deadline=None, suppress_health_check=list(HealthCheck))
+@given(scenarios(platforms=(GPU_PLATFORM,)))
+def test_on_the_gpu_platform_every_input_ends_in_a_clean_exception_or_a_finite_state(scenario):
+    try:
+        run_scenario(scenario)
+    except CLEAN_ERRORS:
+        pass
+
+
 @settings(max_examples=40, derandomize=True, database=None, deadline=None, suppress_health_check=list(HealthCheck))
 @given(bins=st.integers(-2**40, 2**40), max_distance=st.one_of(st.floats(-10, 10), hostile_numbers))
 def test_histogram_arguments_are_bounded(bins, max_distance):
@@ -199,7 +222,7 @@ SHEAR_EXAMPLES = 600
 
 
 @st.composite
-def sheared_scenarios(draw):
+def sheared_scenarios(draw, platforms=("Reference", "CPU")):
     """A soft fluid in a box of random shape stepped by an app.Simulation with a DPDReporter of random
     columns: the plugin's integrator (as its class, or as the bare openmm.Integrator that XML gives)
     with random shear, stress accumulation, scheme and forcing (Norton with random targets), or one of
@@ -214,7 +237,7 @@ def sheared_scenarios(draw):
     def sometimes_hostile(valid):
         return sometimes(valid, hostile_numbers, 4)
 
-    n = sometimes(st.integers(12, 40), st.integers(1, 11), 8)
+    n = sometimes(st.integers(12, 40), st.integers(least_particles(platforms), 11), 8)
     lengths = tuple(sometimes(st.floats(2.2, 5.0), st.floats(1.5, 2.2), 12) for _ in range(3))
     integrator = draw(st.sampled_from(["plugin", "plugin", "plugin", "plugin-xml", "Verlet", "LangevinMiddle",
                                        "openmm.DPD", "Custom"]))
@@ -251,7 +274,7 @@ def sheared_scenarios(draw):
         between=draw(st.sampled_from(["nothing", "nothing", "reset stress", "stress off", "stress on",
                                       "clear forcing", "new shear rate"])),
         later_shear_rate=sometimes_hostile(st.floats(0.0, 2.0)),
-        platform=draw(st.sampled_from(["Reference", "CPU"])),
+        platform=draw(st.sampled_from(platforms)),
         seed=draw(st.integers(1, 2**31 - 1)),
     )
 
@@ -336,6 +359,16 @@ def run_sheared_scenario(s):
           suppress_health_check=list(HealthCheck))
 @given(sheared_scenarios())
 def test_shear_stress_norton_and_the_reporter_end_in_a_clean_exception_or_a_finite_state(scenario):
+    try:
+        run_sheared_scenario(scenario)
+    except CLEAN_ERRORS as error:
+        assert str(error).strip(), f"{type(error).__name__} without a message"
+
+
+@pytest.mark.skipif(not HAS_GPU_PLATFORM, reason=f"OpenMM has no {GPU_PLATFORM} platform here")
+@settings(max_examples=GPU_EXAMPLES, derandomize=True, database=None, deadline=None, suppress_health_check=list(HealthCheck))
+@given(sheared_scenarios(platforms=(GPU_PLATFORM,)))
+def test_on_the_gpu_platform_shear_stress_norton_and_the_reporter_end_cleanly(scenario):
     try:
         run_sheared_scenario(scenario)
     except CLEAN_ERRORS as error:
