@@ -11,7 +11,6 @@
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include <cmath>
 #include <functional>
-#include <set>
 #include <sstream>
 
 using namespace OpenMMDPD;

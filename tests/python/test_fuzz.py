@@ -40,6 +40,15 @@ def least_particles(platforms) -> int:
     return 1 if set(platforms) <= {"Reference", "CPU"} else 2
 
 
+def end_in_a_clean_exception_or_a_finite_state(run, scenario, message_required=False):
+    """The property of every fuzz test: `run` (which checks the state it ends in) finishes, or raises one
+    of CLEAN_ERRORS (with a message, where `message_required`)."""
+    try:
+        run(scenario)
+    except CLEAN_ERRORS as error:
+        assert not message_required or str(error).strip(), f"{type(error).__name__} without a message"
+
+
 def assert_finite(values, what):
     array = np.asarray(values, dtype=float)
     assert np.all(np.isfinite(array)), f"non-finite {what} without an exception"
@@ -186,20 +195,14 @@ def run_scenario(s):
           suppress_health_check=list(HealthCheck))
 @given(scenarios())
 def test_every_input_ends_in_a_clean_exception_or_a_finite_state(scenario):
-    try:
-        run_scenario(scenario)
-    except CLEAN_ERRORS:
-        pass
+    end_in_a_clean_exception_or_a_finite_state(run_scenario, scenario)
 
 
 @pytest.mark.skipif(not HAS_GPU_PLATFORM, reason=f"OpenMM has no {GPU_PLATFORM} platform here")
 @settings(max_examples=GPU_EXAMPLES, derandomize=True, database=None, deadline=None, suppress_health_check=list(HealthCheck))
 @given(scenarios(platforms=(GPU_PLATFORM,)))
 def test_on_the_gpu_platform_every_input_ends_in_a_clean_exception_or_a_finite_state(scenario):
-    try:
-        run_scenario(scenario)
-    except CLEAN_ERRORS:
-        pass
+    end_in_a_clean_exception_or_a_finite_state(run_scenario, scenario)
 
 
 @settings(max_examples=40, derandomize=True, database=None, deadline=None, suppress_health_check=list(HealthCheck))
@@ -359,17 +362,11 @@ def run_sheared_scenario(s):
           suppress_health_check=list(HealthCheck))
 @given(sheared_scenarios())
 def test_shear_stress_norton_and_the_reporter_end_in_a_clean_exception_or_a_finite_state(scenario):
-    try:
-        run_sheared_scenario(scenario)
-    except CLEAN_ERRORS as error:
-        assert str(error).strip(), f"{type(error).__name__} without a message"
+    end_in_a_clean_exception_or_a_finite_state(run_sheared_scenario, scenario, message_required=True)
 
 
 @pytest.mark.skipif(not HAS_GPU_PLATFORM, reason=f"OpenMM has no {GPU_PLATFORM} platform here")
 @settings(max_examples=GPU_EXAMPLES, derandomize=True, database=None, deadline=None, suppress_health_check=list(HealthCheck))
 @given(sheared_scenarios(platforms=(GPU_PLATFORM,)))
 def test_on_the_gpu_platform_shear_stress_norton_and_the_reporter_end_cleanly(scenario):
-    try:
-        run_sheared_scenario(scenario)
-    except CLEAN_ERRORS as error:
-        assert str(error).strip(), f"{type(error).__name__} without a message"
+    end_in_a_clean_exception_or_a_finite_state(run_sheared_scenario, scenario, message_required=True)

@@ -47,6 +47,8 @@ public:
 
     void beginStep(const DPDIntegrator& integrator) override;
     DPDTypePairTable::Compiled compileFriction(const DPDTypePairTable& table) const override;
+    /** Half the box, and the cell grid's 3 cells a side where there is a sweep. */
+    void checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const override;
     bool isFrictionless() const override { return friction.allValuesZero; }
     int getNumParticles() const override { return cc.getNumAtoms(); }
     void endStep(double stepSize, double stressScale) override;
@@ -101,8 +103,7 @@ public:
 private:
     class AtomReorderListener;
     void uploadFriction(DPDTypePairTable::Compiled updated, unsigned long long revision);
-    /** The integrator's cutoff against the Context's box: half the box, and the cell grid's 3 cells where there is a sweep. */
-    void checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const;
+
     void checkExternalState() const;
     void sweep(int mode, const DPDSweepRequest& request, bool response = false);
     void atomsWereReordered();

@@ -11,7 +11,6 @@
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <algorithm>
-#include <optional>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -140,11 +139,7 @@ void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
     if (externalStateUnchecked)
         checkExternalState();
     DPDForceImpl::checkEveryDPDForceFitsBox(context, integrationGroups); // the box may have changed since the last step
-    std::optional<DPDTypePairTable::Compiled> updatedFriction;
-    if (integrator.getTable().getRevision() != frictionRevision)
-        updatedFriction = compileFriction(integrator.getTable());
-    else
-        checkFrictionCutoffFitsBox(friction);
+    std::optional<DPDTypePairTable::Compiled> updatedFriction = frictionForStep(integrator, frictionRevision, friction);
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     DPDLeesEdwardsFlow& flow = shear->flow();

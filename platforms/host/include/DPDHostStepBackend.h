@@ -40,6 +40,7 @@ public:
 
     void beginStep(const DPDIntegrator& integrator) override;
     DPDTypePairTable::Compiled compileFriction(const DPDTypePairTable& table) const override;
+    void checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const override;
     bool isFrictionless() const override { return friction.allValuesZero; }
     int getNumParticles() const override { return static_cast<int>(masses.size()); }
     void endStep(double stepSize, double stressScale) override;

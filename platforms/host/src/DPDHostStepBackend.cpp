@@ -13,7 +13,6 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <sstream>
 #include <type_traits>
 #include <utility>
@@ -102,11 +101,7 @@ void DPDHostStepBackend::beginStep(const DPDIntegrator& integrator) {
     if (externalStateUnchecked) // the drift catches what a step produces; what the user set is checked once, here, so
         checkExternalState();   // that a NaN position cannot hide from the pair search (which drops NaN pairs)
     DPDForceImpl::checkEveryDPDForceFitsBox(context, integrationGroups); // the box may have changed since the last step
-    std::optional<DPDTypePairTable::Compiled> updatedFriction;
-    if (integrator.getTable().getRevision() != frictionRevision)
-        updatedFriction = compileFriction(integrator.getTable());
-    else
-        DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, current.box);
+    std::optional<DPDTypePairTable::Compiled> updatedFriction = frictionForStep(integrator, frictionRevision, friction);
     if (integrator.getShearRate() != 0.0) {
         DPDLeesEdwardsFlow::checkBox(context.getSystem(), current.box, largestCutoff, integrator.getShearRate());
         if (!leesEdwards.isBoundToContext()) // throws for a molecule the sheared box cannot keep whole
@@ -286,8 +281,12 @@ DPDTypePairTable::Compiled DPDHostStepBackend::compileFriction(const DPDTypePair
     // compile() and the box check validate them where they are set (DPDTypePairTable::setChangeCheck)
     // and again at the next step, so a value is never accepted and then silently left unused.
     DPDTypePairTable::Compiled compiled = DPDFrictionTable::compile(context.getSystem(), table);
-    DPDPeriodicBox::checkCutoff("DPDIntegrator", compiled.maxCutoff, arrays().box);
+    checkFrictionCutoffFitsBox(compiled);
     return compiled;
+}
+
+void DPDHostStepBackend::checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const {
+    DPDPeriodicBox::checkCutoff("DPDIntegrator", compiled.maxCutoff, arrays().box);
 }
 
 void DPDHostStepBackend::applyFrictionTableChanges(DPDTypePairTable::Compiled updated, unsigned long long revision) {

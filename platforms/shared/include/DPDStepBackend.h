@@ -44,6 +44,14 @@ public:
      * its largest cutoff in the Context's current box (the message the step would give); changes nothing.
      */
     virtual DPDTypePairTable::Compiled compileFriction(const DPDTypePairTable& table) const = 0;
+    /** Throw unless a step of this platform could use the friction table's largest cutoff in the Context's current box. */
+    virtual void checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const = 0;
+    /**
+     * For beginStep's checks: the integrator's table compiled (compileFriction) if it changed since
+     * `revision`, else nothing, with `current` checked against the box (which may have changed since).
+     */
+    std::optional<DPDTypePairTable::Compiled> frictionForStep(const DPDIntegrator& integrator, unsigned long long revision,
+                                                              const DPDTypePairTable::Compiled& current) const;
     /** Every friction of the integrator's table is zero (no O sweep, no random numbers). */
     virtual bool isFrictionless() const = 0;
     virtual int getNumParticles() const = 0;

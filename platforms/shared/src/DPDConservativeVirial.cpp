@@ -4,7 +4,6 @@
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 using namespace OpenMMDPD;
 using OpenMM::Vec3;

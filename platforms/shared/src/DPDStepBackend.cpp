@@ -9,6 +9,14 @@ namespace {
 }
 } // namespace
 
+std::optional<DPDTypePairTable::Compiled> DPDStepBackend::frictionForStep(const DPDIntegrator& integrator, unsigned long long revision,
+                                                                          const DPDTypePairTable::Compiled& current) const {
+    if (integrator.getTable().getRevision() != revision)
+        return compileFriction(integrator.getTable());
+    checkFrictionCutoffFitsBox(current);
+    return std::nullopt;
+}
+
 // A backend that keeps the scalars where its velocities are overrides all of these; the scheme layer
 // calls them only then, so these defaults are never reached by a correct scheme layer.
 void DPDStepBackend::projectOntoTarget(double, bool) { notKept("projectOntoTarget"); }
