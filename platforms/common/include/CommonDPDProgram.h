@@ -22,12 +22,18 @@ public:
     /**
      * How many particles of a block's region (the block and the cells its pairs reach) the sweep holds
      * in local memory: what 34 KiB leaves after the sweep's other arrays (CommonDPDProgram.cpp says why:
-     * 338 particles in mixed and double precision, 564 in single), or the environment variable
-     * OPENMMDPD_GPU_SWEEP_CAPACITY (from 0 to what 48 KiB holds, 517 or 863: for a device with less or
+     * 285 particles in mixed and double precision, 476 in single), or the environment variable
+     * OPENMMDPD_GPU_SWEEP_CAPACITY (from 0 to what 48 KiB holds, 465 or 775: for a device with less or
      * more local memory, or to test the path of regions that do not fit).  A region with more particles
      * is swept in global memory: the same bits, more slowly.
      */
     static int sweepCapacity(OpenMM::ComputeContext& cc);
+    /**
+     * Whether the sweep applies its pairs in rounds of disjoint pairs, every lane at once (the default),
+     * or one after another (OPENMMDPD_GPU_SWEEP_ORDER=chain: the chain the rounds must reproduce bit for
+     * bit, for their test).
+     */
+    static bool sweepInRounds();
 };
 
 } // namespace OpenMMDPD

@@ -4,6 +4,7 @@
 #include "CommonDPDCalcForceKernel.h"
 #include "CommonDPDCellGrid.h"
 #include "CommonDPDStressAccumulator.h"
+#include "CommonDPDSweepProfile.h"
 #include "CommonDPDForcing.h"
 #include "CommonDPDLeesEdwards.h"
 #include "DPDConservativeVirial.h"
@@ -121,6 +122,7 @@ private:
     CommonDPDCellGrid* grid = nullptr;                      // the pairs of the sweeps: ownGrid or the DPDForce's
     CommonDPDCalcForceKernel* sharedForceKernel = nullptr; // the integrated DPDForce (its grid, its force pass's virial)
     std::unique_ptr<CommonDPDStressAccumulator> stress;
+    std::unique_ptr<CommonDPDSweepProfile> profile;
     bool accumulateStress = false;
     const OpenMM::ForceImpl* sharedForceImpl = nullptr;      // sharedForceKernel's force
     bool onlyForcesTheStepEvaluates = true;                   // every force is a potential of the step's evaluation

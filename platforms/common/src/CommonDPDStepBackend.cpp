@@ -73,6 +73,7 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     if (integrator.getShearRate() != 0.0)
         DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
     stress = std::make_unique<CommonDPDStressAccumulator>(cc, program);
+    profile = std::make_unique<CommonDPDSweepProfile>(cc);
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
         // A force outside the step's evaluation, or one that may act between steps (updateContextState:
         // a CMMotionRemover, a barostat, a plugin's force), keeps the steps of a call apart: only the
@@ -353,6 +354,8 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
     int withResponse = response ? 1 : 0;
     OpenMM::ComputeArray& responseOfPairs = response ? forcing->sweepRows(layout.blocksPerColour*layout.numColours) : storedForces;
     OpenMM::ComputeArray& responseFieldOrNone = response ? forcing->getResponseField() : storedForces; // unused unless response
+    int recordRounds = profile->isRecording() ? 1 : 0;
+    OpenMM::ComputeArray& roundsRows = profile->rows(layout);
     for (int n = 0; n < layout.numColours; n++) {
         int colour = request.reversed ? layout.numColours-1-n : n;
         if (!layout.colourIsUsed(colour))
@@ -363,16 +366,18 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
                             grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
                             friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, gatherStress,
                             blockStress, shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs,
-                            n*layout.blocksPerColour);
+                            n*layout.blocksPerColour, recordRounds, roundsRows, colour*layout.blocksPerColour);
         else
             sweepKernel.run(layout.blocksPerColour*CommonDPDProgram::sweepLanes, CommonDPDProgram::sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                             grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(),
                             cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
                             request.dt, key, mode, request.reversed ? 1 : 0, gatherStress, blockStress,
-                            shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs, n*layout.blocksPerColour);
+                            shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs, n*layout.blocksPerColour,
+                            recordRounds, roundsRows, colour*layout.blocksPerColour);
         if (gatherStress)
             stress->addSweepColour(layout.blocksPerColour);
     }
+    profile->write(layout, mode == OrnsteinUhlenbeck ? "O" : "BBK");
 }
 
 double CommonDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& request, bool response) {

@@ -14,16 +14,21 @@
  * BAOOAB's second O sweep).
  *
  * Each pair update is Delta p = slope u + offset along e_ij (DPDPairFormulas.h), with slope and offset
- * independent of the velocities: the lanes compute, in parallel, everything of a chunk of the block's
- * pairs that the positions and random numbers decide (e_ij, r, slope, offset, the streaming term), from
- * the block's region held in local memory (dpdSweepColour); lane 0 then runs the cheap affine chain over
- * the chunk in order.  The chain is the sequential sweep itself, so the result does not depend on the
- * number of lanes.
+ * independent of the velocities: the lanes compute, in parallel, everything of the block's candidate
+ * pairs that the positions and random numbers decide (e_ij, r, slope, offset), one candidate a lane,
+ * from the block's region held in local memory (dpdSweepColour), and append the pairs they find to a
+ * buffer in the sweep's order.  The buffered pairs are then applied in rounds of pairs that share no
+ * particle, every lane at once (dpdApplyBufferedPairsInRounds): each particle sees its pairs in the
+ * sweep's order with the same arithmetic, so the result is the sequential sweep's bits whatever the
+ * number of lanes, and the chain of dependent updates is about the most pairs one particle has, not
+ * the block's pair count.
  */
 
 #define DPD_SWEEP_ORNSTEIN_UHLENBECK 0
 #define DPD_SWEEP_BBK 1
-#define DPD_SWEEP_CHUNK 64
+#define DPD_SWEEP_PAIRS_PER_LANE 2
+#define DPD_SWEEP_PAIRS (DPD_SWEEP_PAIRS_PER_LANE*DPD_SWEEP_LANES) // the buffer of pairs found and not yet applied
+#define DPD_SWEEP_NO_PAIR 0xffff
 #define DPD_SWEEP_HELD_SIZE (DPD_SWEEP_CAPACITY > 0 ? DPD_SWEEP_CAPACITY : 1) // a capacity of 0: no region is held
 
 /** The 13 neighbour cells of the half stencil: (dx, dy, dz) after (0, 0, 0) in the order z, then y, then x. */
@@ -113,14 +118,116 @@ DEVICE void dpdInclusiveScanInPlace(LOCAL_ARG int* values, int n, LOCAL_ARG int*
 }
 
 /**
+ * Apply the numBuffered pairs of the buffer, every lane at once, in rounds of pairs that share no
+ * particle: bit for bit the updates one after another in the buffer's order (the sweep's order).  A
+ * pair update reads and writes only v_i and v_j, so two that share no particle commute exactly; each
+ * particle must see its pairs in the buffer's order, and that alone.  So pair k waits for the latest
+ * earlier pair that touches its i (pairAfterI) and for the one that touches its j (pairAfterJ), and a
+ * round applies every pair whose two have been applied: a particle has at most one such pair, the
+ * pairs of a round are disjoint, and each particle's velocity goes through the same updates with the
+ * same arithmetic as in the chain.  The rounds number the longest chain of dependent pairs (about the
+ * most pairs one particle has in the buffer), not the pairs.  With DPD_SWEEP_IN_ROUNDS 0 every pair
+ * waits for the one before it: the chain itself, one pair a round (the test of the rounds' bits).
+ * Returns the number of rounds.  Every lane of the work-group calls it.
+ */
+DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, GLOBAL mixed4* RESTRICT velm, LOCAL_ARG mixed4* regionVelocity,
+                                         LOCAL_ARG int* regionTouched, double shearRate, int keepDissipative, LOCAL_ARG const int* pairI,
+                                         LOCAL_ARG const int* pairJ, LOCAL_ARG const double* pairSlope, LOCAL_ARG const double* pairOffset,
+                                         LOCAL_ARG const double* pairR, LOCAL_ARG const double* pairEx, LOCAL_ARG const double* pairEy,
+                                         LOCAL_ARG const double* pairEz, LOCAL_ARG double* pairDissipative, LOCAL_ARG unsigned short* pairAfterI,
+                                         LOCAL_ARG unsigned short* pairAfterJ, LOCAL_ARG unsigned char* pairApplied, LOCAL_ARG int* pending) {
+    for (int k = LOCAL_ID; k < numBuffered; k += LOCAL_SIZE) {
+        int afterI = DPD_SWEEP_NO_PAIR, afterJ = DPD_SWEEP_NO_PAIR;
+#if DPD_SWEEP_IN_ROUNDS
+        int i = pairI[k], j = pairJ[k];
+        for (int earlier = k-1; earlier >= 0 && (afterI == DPD_SWEEP_NO_PAIR || afterJ == DPD_SWEEP_NO_PAIR); earlier--) {
+            int a = pairI[earlier], b = pairJ[earlier];
+            if (afterI == DPD_SWEEP_NO_PAIR && (a == i || b == i))
+                afterI = earlier;
+            if (afterJ == DPD_SWEEP_NO_PAIR && (a == j || b == j))
+                afterJ = earlier;
+        }
+#else
+        if (k > 0)
+            afterI = k-1;
+#endif
+        pairAfterI[k] = (unsigned short) afterI;
+        pairAfterJ[k] = (unsigned short) afterJ;
+        pairApplied[k] = 0;
+    }
+    if (LOCAL_ID == 0)
+        pending[0] = 0;
+    SYNC_THREADS;
+    int numRounds = 0;
+    for (int parity = 0;; parity = 1-parity) {
+        // Which of this lane's pairs are ready, decided before any of the round is applied.
+        int ready[DPD_SWEEP_PAIRS_PER_LANE];
+        for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE; n++) {
+            int k = LOCAL_ID+n*LOCAL_SIZE;
+            ready[n] = 0;
+            if (k < numBuffered && !pairApplied[k]) {
+                int afterI = pairAfterI[k], afterJ = pairAfterJ[k];
+                ready[n] = (afterI == DPD_SWEEP_NO_PAIR || pairApplied[afterI]) && (afterJ == DPD_SWEEP_NO_PAIR || pairApplied[afterJ]);
+            }
+        }
+        SYNC_THREADS;
+        int left = 0;
+        for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE; n++) {
+            int k = LOCAL_ID+n*LOCAL_SIZE;
+            if (k >= numBuffered || pairApplied[k])
+                continue;
+            if (!ready[n]) {
+                left = 1;
+                continue;
+            }
+            int i = pairI[k], j = pairJ[k];
+            mixed4 vi = held ? regionVelocity[i] : velm[i], vj = held ? regionVelocity[j] : velm[j];
+            double ex = pairEx[k], ey = pairEy[k], ez = pairEz[k];
+            DPDPairUpdate update = dpdPairUpdate(pairSlope[k], pairOffset[k]);
+            // The lab-frame relative velocity: peculiar velocities plus the streaming difference.
+            double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
+                       leesEdwardsRelativeVelocity(shearRate, pairR[k], ex, ey);
+            double change = dpdMomentumChange(update, u);
+            if (keepDissipative)
+                pairDissipative[k] = dpdDissipativePart(update, u);
+            vi.x += (mixed) (change*ex*vi.w);
+            vi.y += (mixed) (change*ey*vi.w);
+            vi.z += (mixed) (change*ez*vi.w);
+            vj.x -= (mixed) (change*ex*vj.w);
+            vj.y -= (mixed) (change*ey*vj.w);
+            vj.z -= (mixed) (change*ez*vj.w);
+            if (held) {
+                regionVelocity[i] = vi;
+                regionVelocity[j] = vj;
+                regionTouched[i] = 1;
+                regionTouched[j] = 1;
+            }
+            else {
+                velm[i] = vi;
+                velm[j] = vj;
+            }
+            pairApplied[k] = 1;
+        }
+        if (left)
+            pending[parity] = 1;
+        if (LOCAL_ID == 0)
+            pending[1-parity] = 0; // for the next round: nobody reads it before this round's barrier
+        SYNC_THREADS;
+        numRounds++;
+        if (!pending[parity])
+            return numRounds;
+    }
+}
+
+/**
  * One colour of the exact successive sweep: a work-group per block.  The block's particles and the
  * partners they reach (its region) are read into local memory once (positions, System indices, types,
- * velocities); the lanes then compute the pairs' coefficients DPD_SWEEP_CHUNK candidates at a time, in
- * the sweep's order flattened over the whole block, and lane 0 runs the affine chain over each chunk in
- * that order, on the velocities in local memory; the touched velocities go back at the block's end.  A
- * region of more than DPD_SWEEP_CAPACITY particles (a dense cluster) is swept the same way with every
- * particle read from and written to global memory: the same pairs, numbers and updates, in the same
- * order (tested), only slower.
+ * velocities); the lanes then examine the candidates DPD_SWEEP_LANES at a time, in the sweep's order
+ * flattened over the whole block, buffer the pairs they find, and apply the buffer in rounds whenever
+ * it could not take another chunk's pairs, on the velocities in local memory; the touched velocities
+ * go back at the block's end.  A region of more than DPD_SWEEP_CAPACITY particles (a dense cluster)
+ * is swept the same way with every particle read from and written to global memory: the same pairs,
+ * numbers and updates, in the same order (tested), only slower.
  *
  * The candidates of a block: for each of its cells (z, y, x), each particle i of the cell (in order),
  * the later particles of i's cell, then those of the 13 half-stencil cells in order; a cell of n
@@ -132,7 +239,8 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                            GLOBAL const int* RESTRICT typeOf, GLOBAL const double* RESTRICT friction,
                            GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff, double kT, double dt,
                            mm_ulong randomKey, int mode, int reversed, int gatherStress, GLOBAL double* RESTRICT blockStress, double shearRate, int withResponse,
-                           GLOBAL const double* RESTRICT responseField, GLOBAL double* RESTRICT blockResponse, int firstResponseRow) {
+                           GLOBAL const double* RESTRICT responseField, GLOBAL double* RESTRICT blockResponse, int firstResponseRow,
+                           int recordRounds, GLOBAL int* RESTRICT blockRounds, int firstRoundsRow) {
     LOCAL int regionFirst[DPD_SWEEP_MAX_REGION_CELLS+1], regionGridStart[DPD_SWEEP_MAX_REGION_CELLS];
     LOCAL int cellFirstCandidate[DPD_SWEEP_MAX_BLOCK_CELLS+1], cellStencilCount[DPD_SWEEP_MAX_BLOCK_CELLS];
     // Each block cell's region cell and those of its 13 half-stencil cells, found once a block for the decoding of every candidate.
@@ -141,11 +249,14 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
     LOCAL int regionAtom[DPD_SWEEP_HELD_SIZE], regionOriginal[DPD_SWEEP_HELD_SIZE], regionType[DPD_SWEEP_HELD_SIZE];
     LOCAL int regionTouched[DPD_SWEEP_HELD_SIZE];
     LOCAL mixed4 regionPosition[DPD_SWEEP_HELD_SIZE], regionVelocity[DPD_SWEEP_HELD_SIZE];
-    LOCAL int pairI[DPD_SWEEP_CHUNK], pairJ[DPD_SWEEP_CHUNK]; // region slots (atoms when not held locally); -1: no pair
-    LOCAL double pairSlope[DPD_SWEEP_CHUNK], pairOffset[DPD_SWEEP_CHUNK], pairR[DPD_SWEEP_CHUNK];
-    LOCAL double pairEx[DPD_SWEEP_CHUNK], pairEy[DPD_SWEEP_CHUNK], pairEz[DPD_SWEEP_CHUNK];
-    LOCAL double pairStreaming[DPD_SWEEP_CHUNK];  // the Lees-Edwards part of u (DPDPairFormulas.h)
-    LOCAL double pairResponse[DPD_SWEEP_CHUNK];   // Norton: e . (G_i - G_j)
+    // The buffer of pairs found and not yet applied, in the sweep's order: region slots (atoms when not held locally), coefficients, geometry.
+    LOCAL int pairI[DPD_SWEEP_PAIRS], pairJ[DPD_SWEEP_PAIRS];
+    LOCAL double pairSlope[DPD_SWEEP_PAIRS], pairOffset[DPD_SWEEP_PAIRS], pairR[DPD_SWEEP_PAIRS];
+    LOCAL double pairEx[DPD_SWEEP_PAIRS], pairEy[DPD_SWEEP_PAIRS], pairEz[DPD_SWEEP_PAIRS];
+    LOCAL double pairDissipative[DPD_SWEEP_PAIRS]; // slope u, for the stress and Norton's response
+    LOCAL unsigned short pairAfterI[DPD_SWEEP_PAIRS], pairAfterJ[DPD_SWEEP_PAIRS];
+    LOCAL unsigned char pairApplied[DPD_SWEEP_PAIRS];
+    LOCAL int pendingRounds[2];
     double maxCutoff2 = maxCutoff*maxCutoff;
     int halfX = numBlocks.x == 1 ? 1 : numBlocks.x/2, halfY = numBlocks.y == 1 ? 1 : numBlocks.y/2;
     for (int b = GROUP_ID; b < blocksInColour; b += NUM_GROUPS) {
@@ -203,10 +314,14 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
         SYNC_THREADS;
         double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; // lane 0's sums
         double response = 0.0;
-        for (int chunk = 0; chunk < numCandidates; chunk += DPD_SWEEP_CHUNK) {
-            int chunkSize = numCandidates-chunk < DPD_SWEEP_CHUNK ? numCandidates-chunk : DPD_SWEEP_CHUNK;
-            for (int c = LOCAL_ID; c < chunkSize; c += LOCAL_SIZE) {
-                int q = reversed ? numCandidates-1-(chunk+c) : chunk+c; // in forward order
+        int numBuffered = 0, numRounds = 0, numPairs = 0; // the same in every lane
+        for (int chunk = 0; chunk < numCandidates; chunk += DPD_SWEEP_LANES) {
+            // Each lane examines one candidate; the pairs found are appended to the buffer in the sweep's order.
+            int c = chunk+LOCAL_ID, found = 0, atomI = 0, atomJ = 0;
+            DPDDissipativePair pair;
+            DPDPairUpdate update;
+            if (c < numCandidates) {
+                int q = reversed ? numCandidates-1-c : c; // in forward order
                 // Which block cell, which of its particles i, which partner j (region cells and offsets in them).
                 int m = dpdLastAtOrBelow(cellFirstCandidate, numBlockCells, q);
                 int cellI = cellRegion[m];
@@ -229,8 +344,9 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                     offsetJ = rest;
                 }
                 int slotI = regionFirst[cellI]+t, slotJ = regionFirst[cellJ]+offsetJ;
-                int atomI, atomJ, originalI, originalJ, typeI, typeJ;
-                mixed4 pi, pj, vi, vj;
+                int originalI, originalJ, typeI, typeJ;
+                mixed4 pi, pj;
+                double invMassI, invMassJ;
                 if (held) {
                     atomI = slotI;
                     atomJ = slotJ;
@@ -240,8 +356,8 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                     typeJ = regionType[slotJ];
                     pi = regionPosition[slotI];
                     pj = regionPosition[slotJ];
-                    vi = regionVelocity[slotI];
-                    vj = regionVelocity[slotJ];
+                    invMassI = regionVelocity[slotI].w;
+                    invMassJ = regionVelocity[slotJ].w;
                 }
                 else {
                     atomI = cellAtoms[regionGridStart[cellI]+t];
@@ -252,89 +368,56 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                     typeJ = typeOf[originalJ];
                     pi = DPD_POSITION(atomI);
                     pj = DPD_POSITION(atomJ);
-                    vi = velm[atomI];
-                    vj = velm[atomJ];
+                    invMassI = velm[atomI].w;
+                    invMassJ = velm[atomJ].w;
                 }
-                pairI[c] = -1;
-                DPDDissipativePair pair;
-                if (!dpdFindDissipativePair(pi, pj, vi.w, vj.w, typeI*numTypes+typeJ, friction, cutoff, maxCutoff2, boxSize,
-                                            inverseBoxSize, &pair))
-                    continue;
-                double gamma = pair.gamma, w = pair.w, invReducedMass = pair.invReducedMass, r = pair.r;
-                double ex = pair.ex, ey = pair.ey, ez = pair.ez;
-                DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI, originalJ);
-                DPDPairUpdate update;
-                if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
-                    update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, 1.0/invReducedMass, kT, dt, R.squaredRadius, R.cosine);
-                else
-                    update = bbkUpdate(gamma, w, invReducedMass, kT, dt, dpdNormal(R));
-                pairI[c] = atomI;
-                pairJ[c] = atomJ;
-                pairSlope[c] = update.slope;
-                pairOffset[c] = update.offset;
-                pairR[c] = r;
-                pairEx[c] = ex;
-                pairEy[c] = ey;
-                pairEz[c] = ez;
-                pairStreaming[c] = leesEdwardsRelativeVelocity(shearRate, r, ex, ey);
-                if (withResponse)
-                    pairResponse[c] = ex*(responseField[3*originalI]-responseField[3*originalJ])+
-                                      ey*(responseField[3*originalI+1]-responseField[3*originalJ+1])+
-                                      ez*(responseField[3*originalI+2]-responseField[3*originalJ+2]);
+                found = dpdFindDissipativePair(pi, pj, invMassI, invMassJ, typeI*numTypes+typeJ, friction, cutoff, maxCutoff2, boxSize,
+                                               inverseBoxSize, &pair);
+                if (found) {
+                    DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI, originalJ);
+                    if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
+                        update = exactOrnsteinUhlenbeckUpdate(pair.gamma, pair.w, pair.invReducedMass, 1.0/pair.invReducedMass, kT, dt,
+                                                              R.squaredRadius, R.cosine);
+                    else
+                        update = bbkUpdate(pair.gamma, pair.w, pair.invReducedMass, kT, dt, dpdNormal(R));
+                }
             }
-            SYNC_THREADS;
-            if (LOCAL_ID == 0) { // the successive chain, in order; v_i stays in a register while the pairs share i
-                int current = -1;
-                mixed4 vi;
-                for (int c = 0; c < chunkSize; c++) {
-                    int i = pairI[c], j = pairJ[c];
-                    if (i < 0)
-                        continue;
-                    if (i != current) {
-                        if (current >= 0) {
-                            if (held)
-                                regionVelocity[current] = vi;
-                            else
-                                velm[current] = vi;
-                        }
-                        current = i;
-                        vi = held ? regionVelocity[i] : velm[i];
+            int position = numBuffered+dpdExclusiveScanOfWorkGroup(found, laneSums);
+            numBuffered += laneSums[LOCAL_SIZE-1]; // the pairs this chunk found
+            if (found) {
+                pairI[position] = atomI;
+                pairJ[position] = atomJ;
+                pairSlope[position] = update.slope;
+                pairOffset[position] = update.offset;
+                pairR[position] = pair.r;
+                pairEx[position] = pair.ex;
+                pairEy[position] = pair.ey;
+                pairEz[position] = pair.ez;
+            }
+            if (numBuffered == 0 || (numBuffered <= DPD_SWEEP_PAIRS-DPD_SWEEP_LANES && chunk+DPD_SWEEP_LANES < numCandidates))
+                continue; // room for another chunk's pairs (or nothing to apply)
+            SYNC_THREADS; // the buffer written
+            numRounds += dpdApplyBufferedPairsInRounds(numBuffered, held, velm, regionVelocity, regionTouched, shearRate,
+                                                       gatherStress || withResponse, pairI, pairJ, pairSlope, pairOffset, pairR,
+                                                       pairEx, pairEy, pairEz, pairDissipative, pairAfterI, pairAfterJ, pairApplied,
+                                                       pendingRounds);
+            if (LOCAL_ID == 0) // what the sweep gathers, summed in the sweep's order of the pairs: the same bits as the chain's
+                for (int k = 0; k < numBuffered; k++) {
+                    double ex = pairEx[k], ey = pairEy[k], ez = pairEz[k], dissipative = pairDissipative[k];
+                    if (withResponse) { // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
+                        int i = held ? regionOriginal[pairI[k]] : atomIndex[pairI[k]];
+                        int j = held ? regionOriginal[pairJ[k]] : atomIndex[pairJ[k]];
+                        response += dissipative*(ex*(responseField[3*i]-responseField[3*j])+ey*(responseField[3*i+1]-responseField[3*j+1])+
+                                                 ez*(responseField[3*i+2]-responseField[3*j+2]));
                     }
-                    mixed4 vj = held ? regionVelocity[j] : velm[j];
-                    double ex = pairEx[c], ey = pairEy[c], ez = pairEz[c];
-                    DPDPairUpdate update = dpdPairUpdate(pairSlope[c], pairOffset[c]);
-                    // The lab-frame relative velocity: peculiar velocities plus the streaming difference.
-                    double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
-                               pairStreaming[c];
-                    double change = dpdMomentumChange(update, u);
-                    if (withResponse) // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
-                        response += dpdDissipativePart(update, u)*pairResponse[c];
                     if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts
-                        dpdAddPairStress(stress, pairR[c], dpdDissipativePart(update, u), ex, ey, ez);
-                        dpdAddPairStress(stress+6, pairR[c], update.offset, ex, ey, ez);
+                        dpdAddPairStress(stress, pairR[k], dissipative, ex, ey, ez);
+                        dpdAddPairStress(stress+6, pairR[k], pairOffset[k], ex, ey, ez);
                     }
-                    vi.x += (mixed) (change*ex*vi.w);
-                    vi.y += (mixed) (change*ey*vi.w);
-                    vi.z += (mixed) (change*ez*vi.w);
-                    vj.x -= (mixed) (change*ex*vj.w);
-                    vj.y -= (mixed) (change*ey*vj.w);
-                    vj.z -= (mixed) (change*ez*vj.w);
-                    if (held) {
-                        regionVelocity[j] = vj;
-                        regionTouched[i] = 1;
-                        regionTouched[j] = 1;
-                    }
-                    else
-                        velm[j] = vj;
                 }
-                if (current >= 0) {
-                    if (held)
-                        regionVelocity[current] = vi;
-                    else
-                        velm[current] = vi;
-                }
-            }
-            SYNC_THREADS;
+            numPairs += numBuffered;
+            numBuffered = 0;
+            SYNC_THREADS; // the buffer read before the next chunk refills it
         }
         if (held)
             for (int r = LOCAL_ID; r < numRegionAtoms; r += LOCAL_SIZE)
@@ -346,6 +429,10 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                     blockStress[12*b+k] = stress[k];
             if (withResponse)
                 blockResponse[firstResponseRow+b] = response;
+            if (recordRounds) { // for the cost model (DPDSweepCostModel): this block's rounds and pairs
+                blockRounds[2*(firstRoundsRow+b)] = numRounds;
+                blockRounds[2*(firstRoundsRow+b)+1] = numPairs;
+            }
         }
         SYNC_THREADS; // the next block reuses the local arrays
     }
