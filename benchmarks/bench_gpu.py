@@ -13,8 +13,12 @@ about GPUs: they check that the script and the platform work.  It keeps to a tim
 5 minutes less a margin by default): a round that would pass it is not started, and the table says how many
 rounds ran; the report is rewritten after every round, so a run cut short keeps what it measured.
 
+After the timings, where the OpenCL platform runs (pocl too), it prints the cost model of the ABOBA step
+(benchmarks/gpu_cost_model.py: launches counted, the sweep's critical path profiled, bytes modelled, the
+time expected of an H200), with ABOBA's measured time beside it where a GPU was timed.
+
 Usage: python benchmarks/bench_gpu.py [--sizes N ...] [--rounds R] [--seconds S] [--platforms P ...]
-       [--max-seconds S] [--out FILE.md]
+       [--max-seconds S] [--out FILE.md] [--model-sizes N ...] [--no-model]
 """
 
 from __future__ import annotations
@@ -184,6 +188,9 @@ def main() -> None:
     parser.add_argument("--max-seconds", type=float, default=280.0,
                         help="time budget: no round starts that would pass it (the first round of a platform always runs)")
     parser.add_argument("--out", default=None, help="also write the tables (markdown) there, after every round")
+    parser.add_argument("--model-sizes", type=int, nargs="+", default=[10_000, 100_000, 1_000_000],
+                        help="the sizes of the cost model (benchmarks/gpu_cost_model.py)")
+    parser.add_argument("--no-model", action="store_true", help="leave out the cost model")
     args = parser.parse_args()
     if args.child:
         method, n, platform_name, seconds = args.child
@@ -207,6 +214,7 @@ def main() -> None:
     platforms = [name for name in gpu_platforms() if args.platforms is None or name in args.platforms]
     scratch = tempfile.TemporaryDirectory()
     counter = build_opencl_counter(scratch.name) if "OpenCL" in platforms else None
+    gpu_samples: Dict[tuple, List[dict]] = {}
     for platform_name in platforms:
         if time.time() - began > args.max_seconds:
             sections.append([f"## {platform_name}: not timed (the time budget was spent)", ""])
@@ -236,7 +244,19 @@ def main() -> None:
                           f"{n / sample['seconds_per_step']:.3g} particle-steps/s", flush=True)
             last_round = time.time() - round_began
             sections[-1] = table(platform_name, device, sizes, samples, on_cpu, round_index + 1, args.rounds)
+            if not on_cpu:  # a GPU's ABOBA times, for the model's column
+                gpu_samples.update({key: runs for key, runs in samples.items() if key[0] == "ABOBA"})
             report(final=False)
+    # The cost model (benchmarks/gpu_cost_model.py): launches counted and the sweep profiled on OpenCL
+    # (any device, pocl too), the time expected of an H200, beside ABOBA's measured time where a GPU ran.
+    if "OpenCL" in platforms and counter is not None and not args.no_model:
+        import gpu_cost_model
+
+        measured = {n: statistics.median(r["seconds_per_step"] for r in runs) for (method, n), runs in gpu_samples.items()
+                    if method == "ABOBA"}
+        models = [gpu_cost_model.model_step(n, gpu_cost_model.launches_per_step(counter, n), gpu_cost_model.sweep_profile(n, "OpenCL"),
+                                            gpu_cost_model.H200) for n in args.model_sizes]
+        sections.append(gpu_cost_model.report(models, gpu_cost_model.H200, "OpenCL", measured))
     print(report(final=True))
 
 

@@ -20,10 +20,16 @@ public:
     /** The lanes of a sweep's work-group (one block of the cell grid each, dpdPairSweep.cc). */
     static constexpr int sweepLanes = 64;
     /**
+     * The pairs a sweep buffers before it applies them in rounds, per lane (dpdPairSweep.cc): the more,
+     * the fewer rounds a block takes (measured on a soft fluid at rho = 3: rounds / pairs 0.29 with 2,
+     * 0.19 with 4, 0.14 with 8), and the less local memory is left for the region.
+     */
+    static constexpr int sweepPairsPerLane = 4;
+    /**
      * How many particles of a block's region (the block and the cells its pairs reach) the sweep holds
      * in local memory: what 34 KiB leaves after the sweep's other arrays (CommonDPDProgram.cpp says why:
-     * 285 particles in mixed and double precision, 476 in single), or the environment variable
-     * OPENMMDPD_GPU_SWEEP_CAPACITY (from 0 to what 48 KiB holds, 465 or 775: for a device with less or
+     * 293 particles in mixed and double precision, 489 in single), or the environment variable
+     * OPENMMDPD_GPU_SWEEP_CAPACITY (from 0 to what 48 KiB holds, 472 or 788: for a device with less or
      * more local memory, or to test the path of regions that do not fit).  A region with more particles
      * is swept in global memory: the same bits, more slowly.
      */

@@ -24,6 +24,7 @@ OpenMM::ComputeProgram CommonDPDProgram::compile(OpenMM::ComputeContext& cc, con
     defines["DPD_SWEEP_MAX_REGION_CELLS"] = cc.intToString((width+2)*(width+2)*(width+1));
     defines["DPD_SWEEP_CAPACITY"] = cc.intToString(sweepCapacity(cc));
     defines["DPD_SWEEP_LANES"] = cc.intToString(sweepLanes);
+    defines["DPD_SWEEP_PAIRS_PER_LANE"] = cc.intToString(sweepPairsPerLane);
     defines["DPD_SWEEP_IN_ROUNDS"] = sweepInRounds() ? "1" : "0";
     defines["DPD_KERNEL_SOURCE"] = "";
     std::string source = std::string("#if defined(__OPENCL_VERSION__)\n#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n#endif\n")+
@@ -34,12 +35,12 @@ OpenMM::ComputeProgram CommonDPDProgram::compile(OpenMM::ComputeContext& cc, con
 
 int CommonDPDProgram::sweepCapacity(OpenMM::ComputeContext& cc) {
     // dpdSweepColour's local arrays: the region's cells and the block's (ints; a byte for each block cell's
-    // region cell and 13 for its half stencil's), the lanes' sums and two flags, the buffer of pairs (two
-    // ints, seven doubles, two shorts and a byte each, 2 a lane), and per particle four ints and two mixed4
-    // (position, velocity).
+    // region cell and 13 for its half stencil's), the lanes' int and double sums and three flags, the
+    // buffer of pairs (two ints, two doubles, three shorts each, sweepPairsPerLane a lane), and per
+    // particle four ints and two mixed4 (position, velocity).
     int width = CommonDPDCellGrid::maxBlockWidth;
-    int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+sweepLanes+2)+14*width*width*width;
-    int pairBytes = 2*sweepLanes*(2*4+7*8+2*2+1);
+    int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+sweepLanes+3)+8*sweepLanes+14*width*width*width;
+    int pairBytes = sweepPairsPerLane*sweepLanes*(2*4+2*8+3*2);
     int particleBytes = 4*4+2*(cc.getUseDoublePrecision() || cc.getUseMixedPrecision() ? 32 : 16);
     auto capacityWithin = [&](int bytes) { return (bytes-cellBytes-pairBytes)/particleBytes; };
     if (const char* setting = std::getenv("OPENMMDPD_GPU_SWEEP_CAPACITY")) {

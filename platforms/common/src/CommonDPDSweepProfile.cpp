@@ -14,11 +14,11 @@ CommonDPDSweepProfile::CommonDPDSweepProfile(OpenMM::ComputeContext& cc) : cc(cc
         if (!file)
             throw OpenMM::OpenMMException("OPENMMDPD_GPU_SWEEP_PROFILE is '"+path+"': that file cannot be opened for writing");
     }
-    blockRows.initialize<int>(cc, 2, "dpdSweepProfile");
+    blockRows.initialize<int>(cc, 3, "dpdSweepProfile");
 }
 
 OpenMM::ComputeArray& CommonDPDSweepProfile::rows(const CommonDPDCellGrid::Layout& layout) {
-    int size = isRecording() ? 2*layout.numColours*layout.blocksPerColour : 2;
+    int size = isRecording() ? 3*layout.numColours*layout.blocksPerColour : 3;
     if (static_cast<int>(blockRows.getSize()) < size)
         blockRows.resize(size);
     return blockRows;
@@ -37,12 +37,13 @@ void CommonDPDSweepProfile::write(const CommonDPDCellGrid::Layout& layout, const
     for (int n = 0; n < layout.numColours; n++) {
         if (!layout.colourIsUsed(n))
             continue;
-        file << (firstColour ? "" : ", ") << "{\"rounds\": [";
-        for (int b = 0; b < layout.blocksPerColour; b++)
-            file << (b == 0 ? "" : ", ") << values[2*(n*layout.blocksPerColour+b)];
-        file << "], \"pairs\": [";
-        for (int b = 0; b < layout.blocksPerColour; b++)
-            file << (b == 0 ? "" : ", ") << values[2*(n*layout.blocksPerColour+b)+1];
+        const char* names[3] = {"rounds", "pairs", "candidates"};
+        file << (firstColour ? "{" : ", {");
+        for (int column = 0; column < 3; column++) {
+            file << (column == 0 ? "\"" : "], \"") << names[column] << "\": [";
+            for (int b = 0; b < layout.blocksPerColour; b++)
+                file << (b == 0 ? "" : ", ") << values[3*(n*layout.blocksPerColour+b)+column];
+        }
         file << "]}";
         firstColour = false;
     }

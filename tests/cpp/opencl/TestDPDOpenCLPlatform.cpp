@@ -21,35 +21,6 @@ using namespace OpenMM;
 using namespace OpenMMDPD;
 using namespace OpenMMDPDTest;
 
-namespace {
-
-/** Two species (A: the first half, B: the rest) with a_AB = 40 and gamma_AB = 9, the others 25 and 4.5. */
-void makeTwoSpecies(System& system, DPDIntegrator* integrator) {
-    auto& force = dynamic_cast<DPDForce&>(system.getForce(0));
-    for (int i = system.getNumParticles()/2; i < system.getNumParticles(); i++) {
-        force.setParticleType(i, 1);
-        if (integrator != nullptr)
-            integrator->setParticleType(i, 1);
-    }
-    force.addTypePair(0, 1, 40.0, 1.0);
-    if (integrator != nullptr)
-        integrator->addTypePair(0, 1, 9.0, 1.0);
-}
-
-/** Whether an ABOBA Context for the fluid on the GPU platform under test throws by its first step, naming each fragment. */
-::testing::AssertionResult firstStepRaisesMentioning(const SoftFluid& fluid, const std::vector<std::string>& fragments) {
-    DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::ABOBA);
-    return throwsMentioning(
-        [&] {
-            auto context = openCLContext(*fluid.system, integrator);
-            context->setPositions(fluid.positions);
-            integrator.step(1);
-        },
-        fragments);
-}
-
-} // namespace
-
 class OpenCLPrecision : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(OpenCLPrecision, ForcesAndEnergyMatchReference) {
@@ -271,72 +242,6 @@ TEST(OpenCLPlatform, StepNAndNSingleStepsGiveTheSameBits) {
             runs[single] = snapshot(*context);
         }
         EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << scheme;
-    }
-}
-
-namespace {
-
-/** OPENMMDPD_GPU_SWEEP_CAPACITY set for the Contexts made while it lives, and unset after. */
-class SweepCapacitySetting {
-public:
-    explicit SweepCapacitySetting(const char* value) { setenv("OPENMMDPD_GPU_SWEEP_CAPACITY", value, 1); }
-    ~SweepCapacitySetting() { unsetenv("OPENMMDPD_GPU_SWEEP_CAPACITY"); }
-};
-
-} // namespace
-
-TEST(OpenCLPlatform, SweepsHeldInLocalMemoryAndInGlobalMemoryGiveTheSameBits) {
-    // The O and BBK sweeps hold each block's region (its particles and the partners they reach) in local
-    // memory, and sweep a region too big for it (a dense cluster) in global memory instead: the same
-    // pairs, numbers and updates in the same order.  With the capacity at 0 every region takes the
-    // global path; the trajectories, the stress sums and Norton's sums must be the same bits.  A box of
-    // 7 cells a side has the grid's widest blocks (3 and 4 cells); a mixture gives two pair types;
-    // BAOOAB's second sweep runs backwards.
-    EquilibratedFluid start = equilibratedSoftFluid(1200);
-    makeTwoSpecies(*start.fluid.system, nullptr);
-    for (const char* scheme : {"ABOBA", "S1", "BAOOAB", "ABOBA+Norton"}) {
-        std::string name = scheme;
-        Snapshot runs[2];
-        DPDIntegrator::StressStatistics stress[2];
-        DPDIntegrator::TransportStatistics transport[2];
-        for (int global = 0; global < 2; global++) {
-            std::unique_ptr<SweepCapacitySetting> setting;
-            if (global == 1)
-                setting = std::make_unique<SweepCapacitySetting>("0");
-            DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, name == "ABOBA+Norton" ? "ABOBA" : scheme);
-            integrator.setRandomNumberSeed(8);
-            for (int i = start.fluid.system->getNumParticles()/2; i < start.fluid.system->getNumParticles(); i++)
-                integrator.setParticleType(i, 1);
-            integrator.addTypePair(0, 1, 9.0, 1.0);
-            integrator.setStressAccumulation(true);
-            if (name == "ABOBA+Norton")
-                integrator.setNorton(DPDColourDrift(), 0.05);
-            auto context = openCLContext(*start.fluid.system, integrator, "mixed");
-            context->setPositions(start.fluid.positions);
-            context->setVelocities(start.velocities);
-            integrator.step(25);
-            runs[global] = snapshot(*context);
-            stress[global] = integrator.getStressStatistics();
-            transport[global] = integrator.getTransportStatistics();
-        }
-        EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << scheme;
-        for (int k = 0; k < 9; k++) {
-            EXPECT_EQ(stress[0].dissipative[k], stress[1].dissipative[k]) << scheme << " dissipative stress " << k;
-            EXPECT_EQ(stress[0].random[k], stress[1].random[k]) << scheme << " random stress " << k;
-        }
-        EXPECT_EQ(transport[0].forcingSum, transport[1].forcingSum) << scheme;
-        EXPECT_EQ(transport[0].responseSum, transport[1].responseSum) << scheme;
-    }
-}
-
-TEST(OpenCLPlatform, SweepCapacityOutOfRangeRaisesNamingIt) {
-    SoftFluid fluid = makeSoftFluid(300, 3.0);
-    // Double precision: at most what CUDA's 48 KiB of static shared memory holds, 517 particles.
-    for (const char* value : {"-1", "lots", "518"}) {
-        SweepCapacitySetting setting(value);
-        EXPECT_TRUE(firstStepRaisesMentioning(fluid, {std::string("OPENMMDPD_GPU_SWEEP_CAPACITY is '")+value+"'",
-                                                      "a whole number of particles from 0 to 517 in this precision"}))
-            << value;
     }
 }
 

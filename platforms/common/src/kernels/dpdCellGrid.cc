@@ -10,10 +10,12 @@
 
 #ifdef USE_MIXED_PRECISION
 #define DPD_POSITIONS GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection
+#define DPD_POSITION_ARGUMENTS posq, posqCorrection
 #define DPD_POSITION(i) make_mixed4(posq[i].x+(mixed) posqCorrection[i].x, posq[i].y+(mixed) posqCorrection[i].y, \
                                     posq[i].z+(mixed) posqCorrection[i].z, posq[i].w)
 #else
 #define DPD_POSITIONS GLOBAL real4* RESTRICT posq
+#define DPD_POSITION_ARGUMENTS posq
 #define DPD_POSITION(i) posq[i]
 #endif
 

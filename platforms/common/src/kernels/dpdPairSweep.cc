@@ -26,7 +26,6 @@
 
 #define DPD_SWEEP_ORNSTEIN_UHLENBECK 0
 #define DPD_SWEEP_BBK 1
-#define DPD_SWEEP_PAIRS_PER_LANE 2
 #define DPD_SWEEP_PAIRS (DPD_SWEEP_PAIRS_PER_LANE*DPD_SWEEP_LANES) // the buffer of pairs found and not yet applied
 #define DPD_SWEEP_NO_PAIR 0xffff
 #define DPD_SWEEP_HELD_SIZE (DPD_SWEEP_CAPACITY > 0 ? DPD_SWEEP_CAPACITY : 1) // a capacity of 0: no region is held
@@ -36,6 +35,31 @@ DEVICE int dpdHalfStencilOffset(int k, int axis) {
     int n = k+14; // offsets 14..26 of the 27 in (dz, dy, dx) order, dz slowest: exactly those after (0, 0, 0)
     int d = axis == 0 ? n%3 : (axis == 1 ? (n/3)%3 : n/9);
     return d-1;
+}
+
+/** A pair's separation: r = |q_i - q_j| (minimum image) and e_ij = (q_i - q_j)/r. */
+typedef struct DPDPairGeometry {
+    double r2, r, ex, ey, ez;
+} DPDPairGeometry;
+
+/**
+ * The geometry of particles at pi and pj, r and e_ij only where r^2 is below maxCutoff2 and not 0 (r
+ * and e are 0 otherwise): the one spelling of it, so that a pair's geometry found twice (by the search
+ * and again by the lane that applies it, dpdApplyBufferedPairsInRounds) has the same bits.
+ */
+DEVICE DPDPairGeometry dpdPairGeometry(mixed4 pi, mixed4 pj, double maxCutoff2, double4 boxSize, double4 inverseBoxSize) {
+    DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y, (double) pi.z-(double) pj.z,
+                                          boxSize, inverseBoxSize);
+    DPDPairGeometry geometry;
+    geometry.r2 = delta.x*delta.x+delta.y*delta.y+delta.z*delta.z;
+    geometry.r = geometry.ex = geometry.ey = geometry.ez = 0.0;
+    if (!(geometry.r2 >= maxCutoff2 || geometry.r2 == 0.0)) { // (a NaN goes on, as the search always let it: the drift reports it)
+        geometry.r = sqrt(geometry.r2);
+        geometry.ex = delta.x/geometry.r;
+        geometry.ey = delta.y/geometry.r;
+        geometry.ez = delta.z/geometry.r;
+    }
+    return geometry;
 }
 
 /** What a dissipative pair's update needs of its geometry and friction. */
@@ -51,23 +75,20 @@ typedef struct DPDDissipativePair {
 DEVICE int dpdFindDissipativePair(mixed4 pi, mixed4 pj, double invMassI, double invMassJ, int pairType, GLOBAL const double* RESTRICT friction,
                                   GLOBAL const double* RESTRICT cutoff, double maxCutoff2, double4 boxSize, double4 inverseBoxSize,
                                   DPDDissipativePair* pair) {
-    DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y, (double) pi.z-(double) pj.z,
-                                          boxSize, inverseBoxSize);
-    double r2 = delta.x*delta.x+delta.y*delta.y+delta.z*delta.z;
-    if (r2 >= maxCutoff2 || r2 == 0.0)
+    DPDPairGeometry geometry = dpdPairGeometry(pi, pj, maxCutoff2, boxSize, inverseBoxSize);
+    if (geometry.r == 0.0)
         return 0;
     double rc = cutoff[pairType], gamma = friction[pairType];
     double invReducedMass = invMassI+invMassJ;
-    double r = sqrt(r2);
-    if (r >= rc || gamma == 0.0 || invReducedMass == 0.0)
+    if (geometry.r >= rc || gamma == 0.0 || invReducedMass == 0.0)
         return 0;
-    pair->r = r;
-    pair->w = 1.0-r/rc;
+    pair->r = geometry.r;
+    pair->w = 1.0-geometry.r/rc;
     pair->gamma = gamma;
     pair->invReducedMass = invReducedMass;
-    pair->ex = delta.x/r;
-    pair->ey = delta.y/r;
-    pair->ez = delta.z/r;
+    pair->ex = geometry.ex;
+    pair->ey = geometry.ey;
+    pair->ez = geometry.ez;
     return 1;
 }
 
@@ -118,78 +139,128 @@ DEVICE void dpdInclusiveScanInPlace(LOCAL_ARG int* values, int n, LOCAL_ARG int*
 }
 
 /**
- * Apply the numBuffered pairs of the buffer, every lane at once, in rounds of pairs that share no
- * particle: bit for bit the updates one after another in the buffer's order (the sweep's order).  A
- * pair update reads and writes only v_i and v_j, so two that share no particle commute exactly; each
- * particle must see its pairs in the buffer's order, and that alone.  So pair k waits for the latest
- * earlier pair that touches its i (pairAfterI) and for the one that touches its j (pairAfterJ), and a
- * round applies every pair whose two have been applied: a particle has at most one such pair, the
- * pairs of a round are disjoint, and each particle's velocity goes through the same updates with the
- * same arithmetic as in the chain.  The rounds number the longest chain of dependent pairs (about the
- * most pairs one particle has in the buffer), not the pairs.  With DPD_SWEEP_IN_ROUNDS 0 every pair
- * waits for the one before it: the chain itself, one pair a round (the test of the rounds' bits).
- * Returns the number of rounds.  Every lane of the work-group calls it.
+ * For the pair this lane found at buffer position k (found: 1) in the chunk whose pairs fill positions
+ * [chunkStart, chunkEnd): the latest earlier buffered pair that touches its i, and the one that touches
+ * its j (DPD_SWEEP_NO_PAIR if none since the buffer's last application).  Within the chunk (a few
+ * pairs) it looks back; before it, it reads latestPair, each region slot's latest pair numbered over
+ * the whole block (flushStart: the block number of the buffer's first pair), which the chunk's last
+ * pair of each particle then updates.  Every lane calls it.  With DPD_SWEEP_IN_ROUNDS 0 every pair
+ * waits for the one before it instead: the chain itself, one pair a round, whose bits the rounds must
+ * give (the test).
  */
-DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, GLOBAL mixed4* RESTRICT velm, LOCAL_ARG mixed4* regionVelocity,
-                                         LOCAL_ARG int* regionTouched, double shearRate, int keepDissipative, LOCAL_ARG const int* pairI,
-                                         LOCAL_ARG const int* pairJ, LOCAL_ARG const double* pairSlope, LOCAL_ARG const double* pairOffset,
-                                         LOCAL_ARG const double* pairR, LOCAL_ARG const double* pairEx, LOCAL_ARG const double* pairEy,
-                                         LOCAL_ARG const double* pairEz, LOCAL_ARG double* pairDissipative, LOCAL_ARG unsigned short* pairAfterI,
-                                         LOCAL_ARG unsigned short* pairAfterJ, LOCAL_ARG unsigned char* pairApplied, LOCAL_ARG int* pending) {
-    for (int k = LOCAL_ID; k < numBuffered; k += LOCAL_SIZE) {
-        int afterI = DPD_SWEEP_NO_PAIR, afterJ = DPD_SWEEP_NO_PAIR;
+DEVICE void dpdLinkBufferedPairs(int found, int k, int chunkStart, int chunkEnd, int flushStart, int held, LOCAL_ARG const int* pairI,
+                                 LOCAL_ARG const int* pairJ, LOCAL_ARG unsigned short* pairAfterI, LOCAL_ARG unsigned short* pairAfterJ,
+                                 LOCAL_ARG int* latestPair) {
+    SYNC_THREADS; // the chunk's pairs written
+    int lastOfI = 0, lastOfJ = 0;
+    if (found) {
+        int i = pairI[k], j = pairJ[k], afterI = DPD_SWEEP_NO_PAIR, afterJ = DPD_SWEEP_NO_PAIR;
 #if DPD_SWEEP_IN_ROUNDS
-        int i = pairI[k], j = pairJ[k];
-        for (int earlier = k-1; earlier >= 0 && (afterI == DPD_SWEEP_NO_PAIR || afterJ == DPD_SWEEP_NO_PAIR); earlier--) {
+        // A region swept in global memory has no slot table: its pairs look back over the whole buffer.
+        for (int earlier = k-1; earlier >= (held ? chunkStart : 0) && (afterI == DPD_SWEEP_NO_PAIR || afterJ == DPD_SWEEP_NO_PAIR); earlier--) {
             int a = pairI[earlier], b = pairJ[earlier];
             if (afterI == DPD_SWEEP_NO_PAIR && (a == i || b == i))
                 afterI = earlier;
             if (afterJ == DPD_SWEEP_NO_PAIR && (a == j || b == j))
                 afterJ = earlier;
         }
+        if (held) {
+            if (afterI == DPD_SWEEP_NO_PAIR && latestPair[i] >= flushStart)
+                afterI = latestPair[i]-flushStart;
+            if (afterJ == DPD_SWEEP_NO_PAIR && latestPair[j] >= flushStart)
+                afterJ = latestPair[j]-flushStart;
+        }
 #else
         if (k > 0)
             afterI = k-1;
 #endif
-        pairAfterI[k] = (unsigned short) afterI;
-        pairAfterJ[k] = (unsigned short) afterJ;
-        pairApplied[k] = 0;
-    }
-    if (LOCAL_ID == 0)
-        pending[0] = 0;
-    SYNC_THREADS;
-    int numRounds = 0;
-    for (int parity = 0;; parity = 1-parity) {
-        // Which of this lane's pairs are ready, decided before any of the round is applied.
-        int ready[DPD_SWEEP_PAIRS_PER_LANE];
-        for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE; n++) {
-            int k = LOCAL_ID+n*LOCAL_SIZE;
-            ready[n] = 0;
-            if (k < numBuffered && !pairApplied[k]) {
-                int afterI = pairAfterI[k], afterJ = pairAfterJ[k];
-                ready[n] = (afterI == DPD_SWEEP_NO_PAIR || pairApplied[afterI]) && (afterJ == DPD_SWEEP_NO_PAIR || pairApplied[afterJ]);
+        if (held) { // the table is also what marks a slot touched, in either order
+            lastOfI = lastOfJ = 1;
+            for (int later = k+1; later < chunkEnd; later++) {
+                int a = pairI[later], b = pairJ[later];
+                lastOfI &= a != i && b != i;
+                lastOfJ &= a != j && b != j;
             }
         }
-        SYNC_THREADS;
-        int left = 0;
+        pairAfterI[k] = (unsigned short) afterI;
+        pairAfterJ[k] = (unsigned short) afterJ;
+    }
+    SYNC_THREADS; // every lane has read latestPair
+    if (lastOfI)
+        latestPair[pairI[k]] = flushStart+k;
+    if (lastOfJ)
+        latestPair[pairJ[k]] = flushStart+k;
+}
+
+/**
+ * Apply the numBuffered pairs of the buffer, every lane at once, in rounds of pairs that share no
+ * particle: bit for bit the updates one after another in the buffer's order (the sweep's order).  A
+ * pair update reads and writes only v_i and v_j, so two that share no particle commute exactly; each
+ * particle must see its pairs in the buffer's order, and that alone.  So pair k waits for the latest
+ * earlier pair that touches its i (pairAfterI) and for the one that touches its j (pairAfterJ,
+ * dpdLinkBufferedPairs), and a round applies every pair whose two have been applied: a particle has at
+ * most one such pair, the pairs of a round are disjoint, and each particle's velocity goes through the
+ * same updates with the same arithmetic as in the chain.  The rounds number the longest chain of
+ * dependent pairs in the buffer, not its pairs.
+ *
+ * Lane l owns the pairs l, l + LOCAL_SIZE, ...: it takes their coefficients from the buffer and finds
+ * their geometry again from the positions (dpdPairGeometry: the search's bits) into registers, so the
+ * buffer holds no geometry.  With gather, it adds its pairs' stress and Norton response (after all the
+ * rounds, in the order of its pairs) to its own sums, which the block adds over the lanes in a fixed
+ * order (dpdSumOverLanes).  Returns the number of rounds.  Every lane of the work-group calls it.
+ */
+DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITIONS, GLOBAL mixed4* RESTRICT velm,
+                                         GLOBAL const int* RESTRICT atomIndex, LOCAL_ARG const mixed4* regionPosition,
+                                         LOCAL_ARG mixed4* regionVelocity, LOCAL_ARG const int* regionOriginal,
+                                         double4 boxSize, double4 inverseBoxSize, double maxCutoff2, double shearRate, int gatherStress,
+                                         int withResponse, GLOBAL const double* RESTRICT responseField, LOCAL_ARG const int* pairI,
+                                         LOCAL_ARG const int* pairJ, LOCAL_ARG const double* pairSlope, LOCAL_ARG const double* pairOffset,
+                                         LOCAL_ARG const unsigned short* pairAfterI, LOCAL_ARG const unsigned short* pairAfterJ,
+                                         LOCAL_ARG unsigned short* pairRound, LOCAL_ARG int* pending, double* stress, double* response) {
+    int laneI[DPD_SWEEP_PAIRS_PER_LANE], laneJ[DPD_SWEEP_PAIRS_PER_LANE], laneAfterI[DPD_SWEEP_PAIRS_PER_LANE], laneAfterJ[DPD_SWEEP_PAIRS_PER_LANE];
+    double laneSlope[DPD_SWEEP_PAIRS_PER_LANE], laneOffset[DPD_SWEEP_PAIRS_PER_LANE], laneDissipative[DPD_SWEEP_PAIRS_PER_LANE];
+    DPDPairGeometry laneGeometry[DPD_SWEEP_PAIRS_PER_LANE];
+    int left = 0, numRounds = 0; // left: a bit for each of this lane's pairs not yet applied
+    for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE; n++) {
+        int k = LOCAL_ID+n*LOCAL_SIZE;
+        if (k >= numBuffered)
+            break;
+        int i = pairI[k], j = pairJ[k];
+        laneI[n] = i;
+        laneJ[n] = j;
+        laneAfterI[n] = pairAfterI[k];
+        laneAfterJ[n] = pairAfterJ[k];
+        laneSlope[n] = pairSlope[k];
+        laneOffset[n] = pairOffset[k];
+        laneGeometry[n] = held ? dpdPairGeometry(regionPosition[i], regionPosition[j], maxCutoff2, boxSize, inverseBoxSize)
+                               : dpdPairGeometry(DPD_POSITION(i), DPD_POSITION(j), maxCutoff2, boxSize, inverseBoxSize);
+        pairRound[k] = 0;
+        left |= 1<<n;
+    }
+    if (LOCAL_ID == 0)
+        pending[1] = 0;
+    SYNC_THREADS;
+    // Round t applies the pairs whose two predecessors were applied in rounds before t (pairRound: the
+    // round a pair was applied in, 0 before), so one barrier a round suffices: a predecessor applied in
+    // this round reads as not yet done (its round is not below t), before the barrier or after.
+    for (int round = 1;; round++) {
         for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE; n++) {
-            int k = LOCAL_ID+n*LOCAL_SIZE;
-            if (k >= numBuffered || pairApplied[k])
+            if (!(left & (1<<n)))
                 continue;
-            if (!ready[n]) {
-                left = 1;
-                continue;
-            }
-            int i = pairI[k], j = pairJ[k];
+            int afterI = laneAfterI[n], afterJ = laneAfterJ[n];
+            int roundI = afterI == DPD_SWEEP_NO_PAIR ? 0 : pairRound[afterI], roundJ = afterJ == DPD_SWEEP_NO_PAIR ? 0 : pairRound[afterJ];
+            if ((afterI != DPD_SWEEP_NO_PAIR && (roundI == 0 || roundI == round)) ||
+                (afterJ != DPD_SWEEP_NO_PAIR && (roundJ == 0 || roundJ == round)))
+                continue; // a predecessor not yet applied
+            int i = laneI[n], j = laneJ[n];
             mixed4 vi = held ? regionVelocity[i] : velm[i], vj = held ? regionVelocity[j] : velm[j];
-            double ex = pairEx[k], ey = pairEy[k], ez = pairEz[k];
-            DPDPairUpdate update = dpdPairUpdate(pairSlope[k], pairOffset[k]);
+            double ex = laneGeometry[n].ex, ey = laneGeometry[n].ey, ez = laneGeometry[n].ez;
+            DPDPairUpdate update = dpdPairUpdate(laneSlope[n], laneOffset[n]);
             // The lab-frame relative velocity: peculiar velocities plus the streaming difference.
             double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
-                       leesEdwardsRelativeVelocity(shearRate, pairR[k], ex, ey);
+                       leesEdwardsRelativeVelocity(shearRate, laneGeometry[n].r, ex, ey);
             double change = dpdMomentumChange(update, u);
-            if (keepDissipative)
-                pairDissipative[k] = dpdDissipativePart(update, u);
+            laneDissipative[n] = dpdDissipativePart(update, u);
             vi.x += (mixed) (change*ex*vi.w);
             vi.y += (mixed) (change*ey*vi.w);
             vi.z += (mixed) (change*ez*vi.w);
@@ -199,24 +270,53 @@ DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, GLOBAL mixed
             if (held) {
                 regionVelocity[i] = vi;
                 regionVelocity[j] = vj;
-                regionTouched[i] = 1;
-                regionTouched[j] = 1;
             }
             else {
                 velm[i] = vi;
                 velm[j] = vj;
             }
-            pairApplied[k] = 1;
+            pairRound[LOCAL_ID+n*LOCAL_SIZE] = (unsigned short) round;
+            left &= ~(1<<n);
         }
+        // Whether any lane has pairs left, in a flag of three: lane 0 clears the one of the round after
+        // this, which every lane read two barriers ago.
         if (left)
-            pending[parity] = 1;
+            pending[round%3] = 1;
         if (LOCAL_ID == 0)
-            pending[1-parity] = 0; // for the next round: nobody reads it before this round's barrier
+            pending[(round+1)%3] = 0;
         SYNC_THREADS;
-        numRounds++;
-        if (!pending[parity])
-            return numRounds;
+        if (!pending[round%3]) {
+            numRounds = round;
+            break;
+        }
     }
+    for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE && LOCAL_ID+n*LOCAL_SIZE < numBuffered; n++) {
+        double r = laneGeometry[n].r, ex = laneGeometry[n].ex, ey = laneGeometry[n].ey, ez = laneGeometry[n].ez;
+        if (withResponse) { // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
+            int i = held ? regionOriginal[laneI[n]] : atomIndex[laneI[n]], j = held ? regionOriginal[laneJ[n]] : atomIndex[laneJ[n]];
+            *response += laneDissipative[n]*(ex*(responseField[3*i]-responseField[3*j])+ey*(responseField[3*i+1]-responseField[3*j+1])+
+                                             ez*(responseField[3*i+2]-responseField[3*j+2]));
+        }
+        if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts
+            dpdAddPairStress(stress, r, laneDissipative[n], ex, ey, ez);
+            dpdAddPairStress(stress+6, r, laneOffset[n], ex, ey, ez);
+        }
+    }
+    return numRounds;
+}
+
+/** The sum over the work-group's lanes of each lane's value, in a fixed tree order (the same bits on every run), in every lane. */
+DEVICE double dpdSumOverLanes(double value, LOCAL_ARG double* scratch) {
+    scratch[LOCAL_ID] = value;
+    SYNC_THREADS;
+    for (int stride = LOCAL_SIZE/2; stride > 0; stride /= 2) {
+        if (LOCAL_ID < stride)
+            scratch[LOCAL_ID] += scratch[LOCAL_ID+stride];
+        SYNC_THREADS;
+    }
+    double sum = scratch[0];
+    SYNC_THREADS; // read before the next call writes
+    return sum;
 }
 
 /**
@@ -246,17 +346,16 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
     // Each block cell's region cell and those of its 13 half-stencil cells, found once a block for the decoding of every candidate.
     LOCAL unsigned char cellRegion[DPD_SWEEP_MAX_BLOCK_CELLS], stencilRegion[13*DPD_SWEEP_MAX_BLOCK_CELLS];
     LOCAL int laneSums[DPD_SWEEP_LANES];
+    LOCAL double laneTotals[DPD_SWEEP_LANES];
     LOCAL int regionAtom[DPD_SWEEP_HELD_SIZE], regionOriginal[DPD_SWEEP_HELD_SIZE], regionType[DPD_SWEEP_HELD_SIZE];
-    LOCAL int regionTouched[DPD_SWEEP_HELD_SIZE];
+    LOCAL int regionLatestPair[DPD_SWEEP_HELD_SIZE]; // the latest pair (numbered over the block) that touched the slot, or -1
     LOCAL mixed4 regionPosition[DPD_SWEEP_HELD_SIZE], regionVelocity[DPD_SWEEP_HELD_SIZE];
-    // The buffer of pairs found and not yet applied, in the sweep's order: region slots (atoms when not held locally), coefficients, geometry.
+    // The buffer of pairs found and not yet applied, in the sweep's order: region slots (atoms when not held locally) and coefficients.
     LOCAL int pairI[DPD_SWEEP_PAIRS], pairJ[DPD_SWEEP_PAIRS];
-    LOCAL double pairSlope[DPD_SWEEP_PAIRS], pairOffset[DPD_SWEEP_PAIRS], pairR[DPD_SWEEP_PAIRS];
-    LOCAL double pairEx[DPD_SWEEP_PAIRS], pairEy[DPD_SWEEP_PAIRS], pairEz[DPD_SWEEP_PAIRS];
-    LOCAL double pairDissipative[DPD_SWEEP_PAIRS]; // slope u, for the stress and Norton's response
+    LOCAL double pairSlope[DPD_SWEEP_PAIRS], pairOffset[DPD_SWEEP_PAIRS];
     LOCAL unsigned short pairAfterI[DPD_SWEEP_PAIRS], pairAfterJ[DPD_SWEEP_PAIRS];
-    LOCAL unsigned char pairApplied[DPD_SWEEP_PAIRS];
-    LOCAL int pendingRounds[2];
+    LOCAL unsigned short pairRound[DPD_SWEEP_PAIRS];
+    LOCAL int pendingRounds[3];
     double maxCutoff2 = maxCutoff*maxCutoff;
     int halfX = numBlocks.x == 1 ? 1 : numBlocks.x/2, halfY = numBlocks.y == 1 ? 1 : numBlocks.y/2;
     for (int b = GROUP_ID; b < blocksInColour; b += NUM_GROUPS) {
@@ -309,10 +408,10 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                 regionType[r] = typeOf[original];
                 regionPosition[r] = DPD_POSITION(atom);
                 regionVelocity[r] = velm[atom];
-                regionTouched[r] = 0;
+                regionLatestPair[r] = -1;
             }
         SYNC_THREADS;
-        double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; // lane 0's sums
+        double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; // this lane's pairs' sums
         double response = 0.0;
         int numBuffered = 0, numRounds = 0, numPairs = 0; // the same in every lane
         for (int chunk = 0; chunk < numCandidates; chunk += DPD_SWEEP_LANES) {
@@ -382,56 +481,47 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                         update = bbkUpdate(pair.gamma, pair.w, pair.invReducedMass, kT, dt, dpdNormal(R));
                 }
             }
-            int position = numBuffered+dpdExclusiveScanOfWorkGroup(found, laneSums);
+            int chunkStart = numBuffered, position = chunkStart+dpdExclusiveScanOfWorkGroup(found, laneSums);
             numBuffered += laneSums[LOCAL_SIZE-1]; // the pairs this chunk found
             if (found) {
                 pairI[position] = atomI;
                 pairJ[position] = atomJ;
                 pairSlope[position] = update.slope;
                 pairOffset[position] = update.offset;
-                pairR[position] = pair.r;
-                pairEx[position] = pair.ex;
-                pairEy[position] = pair.ey;
-                pairEz[position] = pair.ez;
             }
+            dpdLinkBufferedPairs(found, position, chunkStart, numBuffered, numPairs, held, pairI, pairJ,
+                                 pairAfterI, pairAfterJ, regionLatestPair);
             if (numBuffered == 0 || (numBuffered <= DPD_SWEEP_PAIRS-DPD_SWEEP_LANES && chunk+DPD_SWEEP_LANES < numCandidates))
                 continue; // room for another chunk's pairs (or nothing to apply)
-            SYNC_THREADS; // the buffer written
-            numRounds += dpdApplyBufferedPairsInRounds(numBuffered, held, velm, regionVelocity, regionTouched, shearRate,
-                                                       gatherStress || withResponse, pairI, pairJ, pairSlope, pairOffset, pairR,
-                                                       pairEx, pairEy, pairEz, pairDissipative, pairAfterI, pairAfterJ, pairApplied,
-                                                       pendingRounds);
-            if (LOCAL_ID == 0) // what the sweep gathers, summed in the sweep's order of the pairs: the same bits as the chain's
-                for (int k = 0; k < numBuffered; k++) {
-                    double ex = pairEx[k], ey = pairEy[k], ez = pairEz[k], dissipative = pairDissipative[k];
-                    if (withResponse) { // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
-                        int i = held ? regionOriginal[pairI[k]] : atomIndex[pairI[k]];
-                        int j = held ? regionOriginal[pairJ[k]] : atomIndex[pairJ[k]];
-                        response += dissipative*(ex*(responseField[3*i]-responseField[3*j])+ey*(responseField[3*i+1]-responseField[3*j+1])+
-                                                 ez*(responseField[3*i+2]-responseField[3*j+2]));
-                    }
-                    if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts
-                        dpdAddPairStress(stress, pairR[k], dissipative, ex, ey, ez);
-                        dpdAddPairStress(stress+6, pairR[k], pairOffset[k], ex, ey, ez);
-                    }
-                }
+            numRounds += dpdApplyBufferedPairsInRounds(numBuffered, held, DPD_POSITION_ARGUMENTS, velm, atomIndex, regionPosition,
+                                                       regionVelocity, regionOriginal, boxSize, inverseBoxSize,
+                                                       maxCutoff2, shearRate, gatherStress, withResponse, responseField, pairI, pairJ,
+                                                       pairSlope, pairOffset, pairAfterI, pairAfterJ, pairRound, pendingRounds,
+                                                       stress, &response);
             numPairs += numBuffered;
             numBuffered = 0;
             SYNC_THREADS; // the buffer read before the next chunk refills it
         }
         if (held)
             for (int r = LOCAL_ID; r < numRegionAtoms; r += LOCAL_SIZE)
-                if (regionTouched[r])
+                if (regionLatestPair[r] >= 0) // touched
                     velm[regionAtom[r]] = regionVelocity[r];
+        if (gatherStress) // this block's row of the sweep's pair stress (dpdStress.cc sums the rows in order)
+            for (int k = 0; k < 12; k++) {
+                double sum = dpdSumOverLanes(stress[k], laneTotals);
+                if (LOCAL_ID == 0)
+                    blockStress[12*b+k] = sum;
+            }
+        if (withResponse) {
+            double sum = dpdSumOverLanes(response, laneTotals);
+            if (LOCAL_ID == 0)
+                blockResponse[firstResponseRow+b] = sum;
+        }
         if (LOCAL_ID == 0) {
-            if (gatherStress) // this block's row of the sweep's pair stress (dpdStress.cc sums the rows in order)
-                for (int k = 0; k < 12; k++)
-                    blockStress[12*b+k] = stress[k];
-            if (withResponse)
-                blockResponse[firstResponseRow+b] = response;
-            if (recordRounds) { // for the cost model (DPDSweepCostModel): this block's rounds and pairs
-                blockRounds[2*(firstRoundsRow+b)] = numRounds;
-                blockRounds[2*(firstRoundsRow+b)+1] = numPairs;
+            if (recordRounds) { // for the cost model (CommonDPDSweepProfile): this block's rounds, pairs and candidates
+                blockRounds[3*(firstRoundsRow+b)] = numRounds;
+                blockRounds[3*(firstRoundsRow+b)+1] = numPairs;
+                blockRounds[3*(firstRoundsRow+b)+2] = numCandidates;
             }
         }
         SYNC_THREADS; // the next block reuses the local arrays

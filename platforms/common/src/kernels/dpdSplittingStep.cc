@@ -93,11 +93,7 @@ KERNEL void dpdDrift(int numAtoms, DPD_POSITIONS, GLOBAL mixed4* RESTRICT velm, 
             velm[i] = v;
         // Both tests are false for NaN; the second also catches a finite step to an infinite position.
         sound &= (displacement2 <= maxDisplacement2) & dpdIsFinite(position.x) & dpdIsFinite(position.y) & dpdIsFinite(position.z);
-#ifdef USE_MIXED_PRECISION
-        dpdStorePosition(posq, posqCorrection, i, position);
-#else
-        dpdStorePosition(posq, i, position);
-#endif
+        dpdStorePosition(DPD_POSITION_ARGUMENTS, i, position);
     }
     if (!sound)
         dpdRecordUnsound(flags, step);

@@ -1,0 +1,230 @@
+"""A cost model of the GPU platforms' ABOBA step that needs no GPU (printed by make bench-gpu on any OpenCL
+device, pocl included): per step and N, the kernel launches, the bytes each kernel reads and writes, and
+the O sweep's critical path, from which, with published figures of a target GPU (an H200 by default), the
+expected time per step.  Where a GPU is lent, bench_gpu.py writes the measured time beside it, so the
+model is checked when it can be.
+
+What is counted, and what is assumed:
+
+- **Launches** are counted: tools/opencl-probe/count_launches_and_buffers.c, preloaded, counts every
+  clEnqueueNDRangeKernel of a run of S steps less a run of none (a property of the code: a GPU gets the
+  same launches).
+- **The critical path** is measured: with OPENMMDPD_GPU_SWEEP_PROFILE the sweep records, block by block,
+  its rounds of disjoint pairs (the chain of dependent pair updates the rounds leave,
+  dpdApplyBufferedPairsInRounds), its pairs and its candidates, at the run's own positions.  A colour's
+  critical path is the largest, over the work-groups, of the rounds of the blocks it sweeps in turn:
+  OpenMM caps a launch at its numThreadBlocks work-groups (6 a multiprocessor on CUDA), so on an H200
+  block b of a colour goes to work-group b mod 792.  Summed over the colours and the sweeps of a step.
+- **Bytes** are a model: what each kernel must move per particle (or per cell) in mixed precision, each
+  array read or written once (KERNEL_BYTES says which arrays); the sweep reads every particle of each
+  block's region and writes the velocities back, so its bytes scale with the region's size.  Caches can
+  only lower them.
+- **Time** = launches x launch overhead + the sum over the kernels of max(bytes / bandwidth, the
+  kernel's latency), where the sweep's latency is its critical path: per colour, the largest over the
+  work-groups of the sum over its blocks of (block setup + candidate chunks x chunk latency + rounds x
+  round latency), in cycles at the GPU's clock.  The cycle figures are estimates (local-memory round
+  trips of ~30 cycles, a barrier, ~15 dependent double operations of ~8 cycles for a round; the
+  coefficients' exp, sqrt and random numbers for a chunk), to be calibrated where a GPU is lent.
+
+Usage: python benchmarks/gpu_cost_model.py [--sizes N ...] [--platform OpenCL] [--out FILE.md]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from typing import Dict, List, Optional, Sequence
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, os.pardir, "tools", "opencl-probe"))
+sys.path.insert(0, HERE)
+from bench_gpu import build_opencl_counter, make_context  # noqa: E402  (the benchmark's scene and counter)
+
+
+@dataclass(frozen=True)
+class TargetGpu:
+    """Published figures of the GPU the model predicts for."""
+
+    name: str
+    bandwidth_bytes_per_second: float  # achievable device-memory bandwidth
+    launch_seconds: float  # the gap a dependent kernel launch adds
+    clock_hertz: float
+    concurrent_work_groups: int  # OpenMM's numThreadBlocks: the work-groups of one launch
+    source: str
+
+
+H200 = TargetGpu("NVIDIA H200 SXM", 4.3e12, 3e-6, 1.98e9, 6 * 132,
+                 "4.8 TB/s HBM3e (datasheet), 4.3 TB/s achievable (../shared/GPU.md); 132 SMs x OpenMM's 6 "
+                 "work-groups each = 792; 1.98 GHz boost; 3 us a dependent launch (CUDA's typical 2-5 us)")
+
+# Cycles of the sweep's pieces on the target (estimates, see the module's docstring).
+CYCLES_PER_ROUND = 250
+CYCLES_PER_CANDIDATE_CHUNK = 1500
+CYCLES_PER_BLOCK = 2500  # the region's cells, counts and scans, its particles into local memory, the write-back
+
+# Bytes per particle each kernel moves in mixed precision (positions: float4 + float4 correction, 32 B;
+# velocities: double4, 32 B; forces: three 64-bit fixed-point values, 24 B), an array read or written once.
+# Cell arrays are counted per particle at rho = 3 and cells of ~1.1 r_c (about 4 particles a cell).
+KERNEL_BYTES: Dict[str, float] = {
+    "dpdDrift": 32 + 32 + 32 + 24 + 32,  # read q, v, F (the kick fused into the drift), write q, v
+    "clearThreeBuffers": 24,  # OpenMM clears the force buffer
+    "dpdLocateParticles": 32 + 4 + 2,  # read q, write the cell, count it
+    "dpdSumCellTiles": 1,
+    "dpdScanCellCounts": 3,
+    "dpdScatterParticles": 4 + 2 + 4,
+    "dpdSortCells": 4 + 4 + 4,
+    "dpdConservativeForces": 32 + 4 + 4 + 4 + 24,  # q (neighbours from cache), cells, atomIndex, types, write F
+    "reduceForces": 24 + 24,
+    "dpdKick": 32 + 24 + 32,
+}
+# The sweep, per particle of a region (the block's and those its pairs reach: q, v, System index, type,
+# the cell slot), and a velocity written back per particle touched.
+SWEEP_BYTES_PER_REGION_PARTICLE = 32 + 32 + 4 + 4 + 4
+SWEEP_BYTES_PER_WRITE = 32
+
+
+def profile_child(n: int, steps: int, platform_name: str) -> None:
+    context, integrator, _ = make_context("ABOBA", n, platform_name)
+    integrator.step(steps)
+    context.getState(getEnergy=True)
+
+
+def sweep_profile(n: int, platform_name: str) -> List[dict]:
+    """The sweeps of two ABOBA steps of the benchmark's scene, as OPENMMDPD_GPU_SWEEP_PROFILE records them."""
+    with tempfile.TemporaryDirectory() as scratch:
+        path = os.path.join(scratch, "profile.jsonl")
+        subprocess.run([sys.executable, __file__, "--child", str(n), "2", platform_name], check=True,
+                       env=dict(os.environ, OPENMMDPD_GPU_SWEEP_PROFILE=path), stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL)
+        return [json.loads(line) for line in open(path)]
+
+
+def launches_per_step(counter: str, n: int, steps: int = 4) -> Dict[str, float]:
+    from launches_per_step import launches
+
+    before, after = launches(counter, "ABOBA", n, 0), launches(counter, "ABOBA", n, steps)
+    per_step = {name: (count - before.get(name, 0)) / steps for name, count in after.items()}
+    return {name: value for name, value in per_step.items() if value > 0}
+
+
+@dataclass
+class SweepCost:
+    critical_rounds: int  # the dependent updates of the critical path, a sweep
+    critical_seconds: float
+    blocks_in_turn: int  # the most blocks one work-group sweeps one after another, a colour
+    rounds_per_block: float
+    pairs_per_block: float
+    region_particles: float  # over the block's particles: the region's size
+    pairs: int
+
+
+def sweep_cost(sweep: dict, n: int, gpu: TargetGpu) -> SweepCost:
+    groups = gpu.concurrent_work_groups
+    critical_rounds, critical_cycles, turns = 0, 0.0, 0
+    all_rounds, all_pairs = [], []
+    for colour in sweep["colours"]:
+        rounds, pairs, candidates = colour["rounds"], colour["pairs"], colour["candidates"]
+        all_rounds += rounds
+        all_pairs += pairs
+        group_rounds: Dict[int, int] = {}
+        group_cycles: Dict[int, float] = {}
+        for b, (r, c) in enumerate(zip(rounds, candidates)):
+            g = b % groups
+            group_rounds[g] = group_rounds.get(g, 0) + r
+            group_cycles[g] = group_cycles.get(g, 0.0) + CYCLES_PER_BLOCK + -(-c // 64) * CYCLES_PER_CANDIDATE_CHUNK + \
+                r * CYCLES_PER_ROUND
+        critical_rounds += max(group_rounds.values())
+        critical_cycles += max(group_cycles.values())
+        turns = max(turns, -(-len(rounds) // groups))
+    cells, blocks = sweep["cells"], sweep["blocks"]
+    width = [c / b for c, b in zip(cells, blocks)]
+    region = (min(width[0] + 2, cells[0]) * min(width[1] + 2, cells[1]) * min(width[2] + 1, cells[2])) / \
+        (width[0] * width[1] * width[2])
+    return SweepCost(critical_rounds, critical_cycles / gpu.clock_hertz, turns, statistics.mean(all_rounds),
+                     statistics.mean(all_pairs), region, sum(all_pairs))
+
+
+@dataclass
+class StepModel:
+    n: int
+    launches: Dict[str, float]
+    bytes_per_particle: Dict[str, float]
+    sweep: SweepCost
+    sweeps_per_step: int
+    seconds: float
+
+
+def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu) -> StepModel:
+    sweep = sweep_cost(sweeps[-1], n, gpu)
+    per_step = len(sweeps) // 2  # two steps were profiled
+    bytes_per_particle = {name: KERNEL_BYTES.get(name, 0.0) * count for name, count in launches.items() if name != "dpdSweepColour"}
+    bytes_per_particle["dpdSweepColour"] = per_step * sweep.region_particles * (SWEEP_BYTES_PER_REGION_PARTICLE + SWEEP_BYTES_PER_WRITE)
+    seconds = sum(launches.values()) * gpu.launch_seconds
+    for name, count in launches.items():
+        if name == "dpdSweepColour":
+            colours = count / max(per_step, 1)
+            memory = bytes_per_particle[name] * n / gpu.bandwidth_bytes_per_second
+            seconds += max(memory, per_step * sweep.critical_seconds) if colours else 0.0
+        else:
+            seconds += bytes_per_particle[name] * n / gpu.bandwidth_bytes_per_second
+    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds)
+
+
+def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optional[Dict[int, float]] = None) -> List[str]:
+    lines = [f"## Cost model of the ABOBA step (a model, not a measurement) for an {gpu.name}", "",
+             f"Launches counted and the sweep profiled on {device}; target figures: {gpu.source}.  Sweep cycles "
+             f"(estimates): {CYCLES_PER_ROUND} a round, {CYCLES_PER_CANDIDATE_CHUNK} a chunk of 64 candidates, "
+             f"{CYCLES_PER_BLOCK} a block.  Bench scene: rho = 3, gamma = 4.5, dt = 0.04, mixed precision.", "",
+             "| N | launches/step | bytes/particle-step (model) | sweep: blocks a work-group sweeps in turn | rounds/block "
+             "| pairs/block | critical path (dependent updates a step) | expected time/step | expected particle-steps/s "
+             "| measured time/step |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for m in models:
+        total_bytes = sum(m.bytes_per_particle.values())
+        measured_text = f"{1e6 * measured[m.n]:.0f} µs" if measured and m.n in measured else "no GPU lent"
+        lines.append(f"| {m.n} | {sum(m.launches.values()):.0f} | {total_bytes:.0f} | {m.sweep.blocks_in_turn} | "
+                     f"{m.sweep.rounds_per_block:.1f} | {m.sweep.pairs_per_block:.0f} | "
+                     f"{m.sweeps_per_step * m.sweep.critical_rounds} | {1e6 * m.seconds:.0f} µs | {m.n / m.seconds:.3g} | "
+                     f"{measured_text} |")
+    lines += ["", "Per kernel (launches a step; bytes per particle a step, model):", ""]
+    for m in models:
+        lines.append(f"- N = {m.n}: " + ", ".join(f"{name} {count:g}× {m.bytes_per_particle.get(name, 0):.0f} B"
+                                                  for name, count in m.launches.items()))
+    return lines + [""]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[10_000, 100_000, 1_000_000])
+    parser.add_argument("--platform", default="OpenCL", help="the platform that runs the profile (OpenCL: pocl will do)")
+    parser.add_argument("--out", default=None, help="also write the table (markdown) there")
+    parser.add_argument("--child", nargs=3, help=argparse.SUPPRESS)
+    arguments = parser.parse_args()
+    if arguments.child:
+        profile_child(int(arguments.child[0]), int(arguments.child[1]), arguments.child[2])
+        return
+    with tempfile.TemporaryDirectory() as scratch:
+        counter = build_opencl_counter(scratch)
+        if counter is None:
+            sys.exit("the cost model needs the OpenCL launch counter")
+        models = [model_step(n, launches_per_step(counter, n), sweep_profile(n, arguments.platform), H200) for n in arguments.sizes]
+    import openmm as mm
+
+    import openmmdpd  # noqa: F401  (loads the plugins)
+
+    device = f"{arguments.platform} ({mm.Platform.getPlatformByName(arguments.platform).getName()})"
+    text = "\n".join(report(models, H200, device))
+    print(text)
+    if arguments.out:
+        with open(arguments.out, "w") as file:
+            file.write(text + "\n")
+
+
+if __name__ == "__main__":
+    main()

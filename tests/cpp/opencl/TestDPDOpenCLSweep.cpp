@@ -1,0 +1,235 @@
+// The GPU platforms' successive pair sweeps (platforms/common/src/kernels/dpdPairSweep.cc), run here on
+// pocl: the rounds of disjoint pairs give the bits of the chain of pairs one after another, the regions
+// held in local memory those swept in global memory, the sweep's profile (the cost model's input)
+// records each block's rounds and pairs without changing a bit, and its settings are checked.
+
+#include "OpenCLTestSupport.h"
+#include "openmmdpd/DPDColourDrift.h"
+#include <gtest/gtest.h>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+using namespace OpenMM;
+using namespace OpenMMDPD;
+using namespace OpenMMDPDTest;
+
+namespace {
+
+/** What a sweep test compares: the trajectory's bits and the sums the sweeps gather. */
+struct SweptRun {
+    Snapshot state;
+    DPDIntegrator::StressStatistics stress;
+    DPDIntegrator::TransportStatistics transport;
+};
+
+/**
+ * `steps` steps of a scheme ("ABOBA+Norton": ABOBA with Norton's colour drift, "ABOBA+shear": with
+ * Lees-Edwards shear) on the two-species fluid, with stress accumulation, in mixed precision, on the
+ * GPU platform under test with the environment as it is.
+ */
+SweptRun sweptRun(const EquilibratedFluid& start, const std::string& scheme, int steps) {
+    std::string base = scheme.substr(0, scheme.find('+'));
+    DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, base);
+    integrator.setRandomNumberSeed(8);
+    for (int i = start.fluid.system->getNumParticles()/2; i < start.fluid.system->getNumParticles(); i++)
+        integrator.setParticleType(i, 1);
+    integrator.addTypePair(0, 1, 9.0, 1.0);
+    integrator.setStressAccumulation(true);
+    if (scheme == "ABOBA+Norton")
+        integrator.setNorton(DPDColourDrift(), 0.05);
+    if (scheme == "ABOBA+shear")
+        integrator.setLeesEdwards(0.5);
+    auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+    context->setPositions(start.fluid.positions);
+    context->setVelocities(start.velocities);
+    integrator.step(steps);
+    return {snapshot(*context), integrator.getStressStatistics(), integrator.getTransportStatistics()};
+}
+
+/** Whether two runs gave the same bits: trajectory, the sweeps' dissipative and random stress, Norton's sums. */
+::testing::AssertionResult sameBits(const SweptRun& a, const SweptRun& b) {
+    if (!bitIdentical(a.state, b.state))
+        return ::testing::AssertionFailure() << "the positions or velocities differ";
+    for (int k = 0; k < 9; k++)
+        if (a.stress.dissipative[k] != b.stress.dissipative[k] || a.stress.random[k] != b.stress.random[k])
+            return ::testing::AssertionFailure() << "the sweep's stress differs in component " << k;
+    if (a.transport.forcingSum != b.transport.forcingSum || a.transport.responseSum != b.transport.responseSum)
+        return ::testing::AssertionFailure() << "Norton's sums differ";
+    return ::testing::AssertionSuccess();
+}
+
+/** One sweep of a profile file: each block's rounds and pairs, colour after colour. */
+struct ProfiledSweep {
+    std::vector<long long> rounds, pairs;
+};
+
+/** The numbers of every "key": [ ... ] list in a line of the profile. */
+std::vector<long long> listsNamed(const std::string& line, const std::string& key) {
+    std::vector<long long> values;
+    std::string marker = "\""+key+"\": [";
+    for (size_t at = line.find(marker); at != std::string::npos; at = line.find(marker, at)) {
+        at += marker.size();
+        size_t end = line.find(']', at);
+        std::stringstream list(line.substr(at, end-at));
+        std::string value;
+        while (std::getline(list, value, ','))
+            values.push_back(std::stoll(value));
+    }
+    return values;
+}
+
+std::vector<ProfiledSweep> readProfile(const std::string& path) {
+    std::vector<ProfiledSweep> sweeps;
+    std::ifstream file(path);
+    for (std::string line; std::getline(file, line);)
+        sweeps.push_back({listsNamed(line, "rounds"), listsNamed(line, "pairs")});
+    return sweeps;
+}
+
+/** A fresh path for a profile, removed when this goes. */
+class TemporaryPath {
+public:
+    explicit TemporaryPath(const std::string& stem) : path("/tmp/"+stem+"-"+std::to_string(getpid())+".jsonl") { std::remove(path.c_str()); }
+    ~TemporaryPath() { std::remove(path.c_str()); }
+    const std::string path;
+};
+
+} // namespace
+
+TEST(OpenCLSweep, RoundsOfDisjointPairsGiveTheBitsOfTheChain) {
+    // The sweep applies a block's pairs in rounds of pairs that share no particle, all lanes at once;
+    // OPENMMDPD_GPU_SWEEP_ORDER=chain applies them one after another in the sweep's order, the sequential
+    // sweep itself.  Each particle sees its pairs in the same order with the same arithmetic, so every
+    // scheme that sweeps (O: ABOBA, BAOOAB forwards and backwards; BBK: S1), with Norton's response and
+    // Lees-Edwards shear, must give the chain's bits: trajectory, stress and Norton's sums; so must the
+    // global-memory path (capacity 0).  1536 particles: a box of 8 cells, blocks of 2, every region
+    // held in local memory.  Mutation: without the wait for the latest earlier pair of j (pairAfterJ)
+    // two pairs of one particle can share a round, and every scheme fails.
+    EquilibratedFluid start = equilibratedSoftFluid(1536);
+    makeTwoSpecies(*start.fluid.system, nullptr);
+    for (const char* scheme : {"ABOBA", "S1", "BAOOAB", "ABOBA+Norton", "ABOBA+shear"}) {
+        SweptRun chain, rounds;
+        {
+            EnvironmentSetting order("OPENMMDPD_GPU_SWEEP_ORDER", "chain");
+            chain = sweptRun(start, scheme, 12);
+        }
+        rounds = sweptRun(start, scheme, 12);
+        EXPECT_TRUE(sameBits(rounds, chain)) << scheme;
+        if (std::string(scheme) == "ABOBA+shear") {
+            EnvironmentSetting capacity("OPENMMDPD_GPU_SWEEP_CAPACITY", "0");
+            EXPECT_TRUE(sameBits(sweptRun(start, scheme, 12), chain)) << scheme << " in global memory";
+        }
+    }
+}
+
+TEST(OpenCLSweep, ProfileRecordsEachBlocksRoundsAndPairsWithoutChangingTheBits) {
+    // With OPENMMDPD_GPU_SWEEP_PROFILE set, each sweep appends its blocks' rounds and pairs (the cost
+    // model's input, benchmarks/gpu_cost_model.py).  Observing changes nothing: the run's bits are those
+    // of the run without it.  In the chain each round is one pair, so every block's rounds equal its
+    // pairs; in rounds the blocks hold the same pairs in far fewer rounds: at rho = 3 a particle has
+    // about 12 partners within r_c, so a block's longest chain of dependent pairs is a few tens while
+    // it holds hundreds of pairs (measured: 648 particles, L = 6, blocks of 2 and 3 cells, some held in
+    // local memory and some not, 5 ABOBA steps: total rounds / total pairs 0.XXX); the bound 0.25 fails
+    // if the rounds serialise the buffer.
+    EquilibratedFluid start = equilibratedSoftFluid(648);
+    makeTwoSpecies(*start.fluid.system, nullptr);
+    SweptRun plain = sweptRun(start, "ABOBA", 5);
+    TemporaryPath roundsPath("dpd-sweep-rounds"), chainPath("dpd-sweep-chain");
+    SweptRun profiled;
+    {
+        EnvironmentSetting profile("OPENMMDPD_GPU_SWEEP_PROFILE", roundsPath.path);
+        profiled = sweptRun(start, "ABOBA", 5);
+    }
+    {
+        EnvironmentSetting profile("OPENMMDPD_GPU_SWEEP_PROFILE", chainPath.path);
+        EnvironmentSetting order("OPENMMDPD_GPU_SWEEP_ORDER", "chain");
+        sweptRun(start, "ABOBA", 5);
+    }
+    EXPECT_TRUE(sameBits(profiled, plain));
+    std::vector<ProfiledSweep> inRounds = readProfile(roundsPath.path), inChain = readProfile(chainPath.path);
+    ASSERT_EQ(inRounds.size(), 5u); // ABOBA: one O sweep a step
+    ASSERT_EQ(inChain.size(), 5u);
+    long long totalRounds = 0, totalPairs = 0;
+    for (size_t s = 0; s < inRounds.size(); s++) {
+        ASSERT_EQ(inRounds[s].pairs, inChain[s].pairs) << "sweep " << s;
+        EXPECT_EQ(inChain[s].rounds, inChain[s].pairs) << "sweep " << s;
+        for (size_t b = 0; b < inRounds[s].rounds.size(); b++) {
+            EXPECT_LE(inRounds[s].rounds[b], inRounds[s].pairs[b]);
+            EXPECT_EQ(inRounds[s].rounds[b] > 0, inRounds[s].pairs[b] > 0);
+            totalRounds += inRounds[s].rounds[b];
+            totalPairs += inRounds[s].pairs[b];
+        }
+    }
+    double ratio = static_cast<double>(totalRounds)/totalPairs;
+    std::printf("[ measured ] sweep rounds / pairs %.3f (%lld rounds, %lld pairs in 5 sweeps)\n", ratio, totalRounds, totalPairs);
+    EXPECT_GT(totalPairs, 5*648*5); // about 6 pairs a particle a sweep
+    EXPECT_LT(ratio, 0.25);
+}
+
+TEST(OpenCLSweep, SweepSettingsOutOfRangeRaiseNamingThem) {
+    SoftFluid fluid = makeSoftFluid(300, 3.0);
+    {
+        EnvironmentSetting order("OPENMMDPD_GPU_SWEEP_ORDER", "sideways");
+        EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_ORDER is 'sideways'", "rounds (the default) or chain"}));
+    }
+    EnvironmentSetting profile("OPENMMDPD_GPU_SWEEP_PROFILE", "/no/such/folder/profile.jsonl");
+    EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_PROFILE is '/no/such/folder/profile.jsonl'", "cannot be opened"}));
+}
+
+TEST(OpenCLSweep, SweepsHeldInLocalMemoryAndInGlobalMemoryGiveTheSameBits) {
+    // The O and BBK sweeps hold each block's region (its particles and the partners they reach) in local
+    // memory, and sweep a region too big for it (a dense cluster) in global memory instead: the same
+    // pairs, numbers and updates in the same order.  With the capacity at 0 every region takes the
+    // global path; the trajectories, the stress sums and Norton's sums must be the same bits.  A box of
+    // 7 cells a side has the grid's widest blocks (3 and 4 cells); a mixture gives two pair types;
+    // BAOOAB's second sweep runs backwards.
+    EquilibratedFluid start = equilibratedSoftFluid(1200);
+    makeTwoSpecies(*start.fluid.system, nullptr);
+    for (const char* scheme : {"ABOBA", "S1", "BAOOAB", "ABOBA+Norton"}) {
+        std::string name = scheme;
+        Snapshot runs[2];
+        DPDIntegrator::StressStatistics stress[2];
+        DPDIntegrator::TransportStatistics transport[2];
+        for (int global = 0; global < 2; global++) {
+            std::unique_ptr<EnvironmentSetting> setting;
+            if (global == 1)
+                setting = std::make_unique<EnvironmentSetting>("OPENMMDPD_GPU_SWEEP_CAPACITY", "0");
+            DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, name == "ABOBA+Norton" ? "ABOBA" : scheme);
+            integrator.setRandomNumberSeed(8);
+            for (int i = start.fluid.system->getNumParticles()/2; i < start.fluid.system->getNumParticles(); i++)
+                integrator.setParticleType(i, 1);
+            integrator.addTypePair(0, 1, 9.0, 1.0);
+            integrator.setStressAccumulation(true);
+            if (name == "ABOBA+Norton")
+                integrator.setNorton(DPDColourDrift(), 0.05);
+            auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+            context->setPositions(start.fluid.positions);
+            context->setVelocities(start.velocities);
+            integrator.step(25);
+            runs[global] = snapshot(*context);
+            stress[global] = integrator.getStressStatistics();
+            transport[global] = integrator.getTransportStatistics();
+        }
+        EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << scheme;
+        for (int k = 0; k < 9; k++) {
+            EXPECT_EQ(stress[0].dissipative[k], stress[1].dissipative[k]) << scheme << " dissipative stress " << k;
+            EXPECT_EQ(stress[0].random[k], stress[1].random[k]) << scheme << " random stress " << k;
+        }
+        EXPECT_EQ(transport[0].forcingSum, transport[1].forcingSum) << scheme;
+        EXPECT_EQ(transport[0].responseSum, transport[1].responseSum) << scheme;
+    }
+}
+
+TEST(OpenCLSweep, SweepCapacityOutOfRangeRaisesNamingIt) {
+    SoftFluid fluid = makeSoftFluid(300, 3.0);
+    // Double precision: at most what CUDA's 48 KiB of static shared memory holds, 472 particles.
+    for (const char* value : {"-1", "lots", "473"}) {
+        EnvironmentSetting setting("OPENMMDPD_GPU_SWEEP_CAPACITY", value);
+        EXPECT_TRUE(firstStepRaisesMentioning(fluid, {std::string("OPENMMDPD_GPU_SWEEP_CAPACITY is '")+value+"'",
+                                                      "a whole number of particles from 0 to 472 in this precision"}))
+            << value;
+    }
+}
+
