@@ -116,6 +116,7 @@ def launches_per_step(counter: str, n: int, steps: int = 4) -> Dict[str, float]:
 @dataclass
 class SweepCost:
     critical_rounds: int  # the dependent updates of the critical path, a sweep
+    critical_chain: int  # the same with one pair a round (the sweep before the rounds: lane 0's chain)
     critical_seconds: float
     blocks_in_turn: int  # the most blocks one work-group sweeps one after another, a colour
     rounds_per_block: float
@@ -124,29 +125,33 @@ class SweepCost:
     pairs: int
 
 
-def sweep_cost(sweep: dict, n: int, gpu: TargetGpu) -> SweepCost:
-    groups = gpu.concurrent_work_groups
-    critical_rounds, critical_cycles, turns = 0, 0.0, 0
+def sweep_cost(sweep: dict, n: int, gpu: TargetGpu, blocks_at_once: int = 1) -> SweepCost:
+    """What one sweep costs on `gpu`, with `blocks_at_once` blocks a work-group side by side (1 now; more is a what-if)."""
+    groups = gpu.concurrent_work_groups * blocks_at_once
+    critical_rounds, critical_chain, critical_cycles, turns = 0, 0, 0.0, 0
     all_rounds, all_pairs = [], []
     for colour in sweep["colours"]:
         rounds, pairs, candidates = colour["rounds"], colour["pairs"], colour["candidates"]
         all_rounds += rounds
         all_pairs += pairs
         group_rounds: Dict[int, int] = {}
+        group_pairs: Dict[int, int] = {}
         group_cycles: Dict[int, float] = {}
-        for b, (r, c) in enumerate(zip(rounds, candidates)):
+        for b, (r, p, c) in enumerate(zip(rounds, pairs, candidates)):
             g = b % groups
             group_rounds[g] = group_rounds.get(g, 0) + r
+            group_pairs[g] = group_pairs.get(g, 0) + p
             group_cycles[g] = group_cycles.get(g, 0.0) + CYCLES_PER_BLOCK + -(-c // 64) * CYCLES_PER_CANDIDATE_CHUNK + \
                 r * CYCLES_PER_ROUND
         critical_rounds += max(group_rounds.values())
+        critical_chain += max(group_pairs.values())
         critical_cycles += max(group_cycles.values())
         turns = max(turns, -(-len(rounds) // groups))
     cells, blocks = sweep["cells"], sweep["blocks"]
     width = [c / b for c, b in zip(cells, blocks)]
     region = (min(width[0] + 2, cells[0]) * min(width[1] + 2, cells[1]) * min(width[2] + 1, cells[2])) / \
         (width[0] * width[1] * width[2])
-    return SweepCost(critical_rounds, critical_cycles / gpu.clock_hertz, turns, statistics.mean(all_rounds),
+    return SweepCost(critical_rounds, critical_chain, critical_cycles / gpu.clock_hertz, turns, statistics.mean(all_rounds),
                      statistics.mean(all_pairs), region, sum(all_pairs))
 
 
@@ -158,6 +163,7 @@ class StepModel:
     sweep: SweepCost
     sweeps_per_step: int
     seconds: float
+    critical_rounds_at_once: Dict[int, int]  # what-if: the critical path with 2 and 4 blocks a work-group at once
 
 
 def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu) -> StepModel:
@@ -173,7 +179,8 @@ def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: 
             seconds += max(memory, per_step * sweep.critical_seconds) if colours else 0.0
         else:
             seconds += bytes_per_particle[name] * n / gpu.bandwidth_bytes_per_second
-    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds)
+    at_once = {s: per_step * sweep_cost(sweeps[-1], n, gpu, s).critical_rounds for s in (2, 4)}
+    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once)
 
 
 def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optional[Dict[int, float]] = None) -> List[str]:
@@ -182,15 +189,17 @@ def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optio
              f"(estimates): {CYCLES_PER_ROUND} a round, {CYCLES_PER_CANDIDATE_CHUNK} a chunk of 64 candidates, "
              f"{CYCLES_PER_BLOCK} a block.  Bench scene: rho = 3, gamma = 4.5, dt = 0.04, mixed precision.", "",
              "| N | launches/step | bytes/particle-step (model) | sweep: blocks a work-group sweeps in turn | rounds/block "
-             "| pairs/block | critical path (dependent updates a step) | expected time/step | expected particle-steps/s "
+             "| pairs/block | critical path, dependent updates a step: rounds (lane 0's chain before them) "
+             "| what-if: 2, 4 blocks a work-group at once | expected time/step | expected particle-steps/s "
              "| measured time/step |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for m in models:
         total_bytes = sum(m.bytes_per_particle.values())
         measured_text = f"{1e6 * measured[m.n]:.0f} µs" if measured and m.n in measured else "no GPU lent"
         lines.append(f"| {m.n} | {sum(m.launches.values()):.0f} | {total_bytes:.0f} | {m.sweep.blocks_in_turn} | "
                      f"{m.sweep.rounds_per_block:.1f} | {m.sweep.pairs_per_block:.0f} | "
-                     f"{m.sweeps_per_step * m.sweep.critical_rounds} | {1e6 * m.seconds:.0f} µs | {m.n / m.seconds:.3g} | "
+                     f"{m.sweeps_per_step * m.sweep.critical_rounds} ({m.sweeps_per_step * m.sweep.critical_chain}) | "
+                     f"{m.critical_rounds_at_once[2]}, {m.critical_rounds_at_once[4]} | {1e6 * m.seconds:.0f} µs | {m.n / m.seconds:.3g} | "
                      f"{measured_text} |")
     lines += ["", "Per kernel (launches a step; bytes per particle a step, model):", ""]
     for m in models:
