@@ -18,7 +18,7 @@ After the timings, where the OpenCL platform runs (pocl too), it prints the cost
 time expected of an H200), with ABOBA's measured time beside it where a GPU was timed.
 
 Usage: python benchmarks/bench_gpu.py [--sizes N ...] [--rounds R] [--seconds S] [--platforms P ...]
-       [--max-seconds S] [--out FILE.md] [--model-sizes N ...] [--no-model]
+       [--max-seconds S] [--out FILE.md] [--model-sizes N ...] [--no-model] [--baseline DIR]
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import Dict, List, Optional
+from typing import Dict, List, Optional, Sequence
 
 METHODS = ("ABOBA", "S1", "VV", "OpenMM-DPD")
 BASELINE = "OpenMM-arrays"
@@ -108,9 +108,17 @@ def build_opencl_counter(directory: str) -> Optional[str]:
     return library
 
 
-def run_child(method: str, n: int, platform_name: str, seconds: float, counter: Optional[str] = None) -> Optional[dict]:
-    """One run in its own process; with `counter` (OpenCL), the bytes of the device buffers it created too."""
+BASELINE_BUILD_SUFFIX = " (--baseline)"
+
+
+def run_child(method: str, n: int, platform_name: str, seconds: float, counter: Optional[str] = None,
+              baseline_build: Optional[str] = None) -> Optional[dict]:
+    """One run in its own process; with `counter` (OpenCL), the bytes of the device buffers it created too; a
+    method named with BASELINE_BUILD_SUFFIX runs the openmmdpd installed in `baseline_build` (pip install --target)."""
     environment = dict(os.environ)
+    if method.endswith(BASELINE_BUILD_SUFFIX):
+        method = method[:-len(BASELINE_BUILD_SUFFIX)]
+        environment["PYTHONPATH"] = os.pathsep.join(filter(None, [baseline_build, environment.get("PYTHONPATH")]))
     with tempfile.NamedTemporaryFile(suffix=".txt") as counts:
         if counter is not None and platform_name == "OpenCL":
             environment.update(LD_PRELOAD=counter, OPENCL_PROBE_OUT=counts.name)
@@ -147,7 +155,7 @@ def gpu_platforms() -> List[str]:
 
 
 def table(platform_name: str, device: str, sizes: List[int], samples: Dict[tuple, List[dict]], on_cpu: bool,
-          rounds_done: int, rounds: int) -> List[str]:
+          rounds_done: int, rounds: int, methods_of_baseline: Sequence[str] = ()) -> List[str]:
     """One platform's section of the report: a row per size and method, medians over the rounds run."""
     lines = [f"## {platform_name}: {device}", ""]
     if on_cpu:
@@ -163,7 +171,7 @@ def table(platform_name: str, device: str, sizes: List[int], samples: Dict[tuple
     for n in sizes:
         baseline = samples.get((BASELINE, n), [{}])[0].get("device_memory_mb")
         openmm_dpd = samples.get(("OpenMM-DPD", n))
-        for method in METHODS:
+        for method in METHODS + tuple(f"{m}{BASELINE_BUILD_SUFFIX}" for m in methods_of_baseline):
             runs = samples.get((method, n))
             if not runs:
                 lines.append(f"| {n} | {method} | did not run | | | |")
@@ -191,6 +199,8 @@ def main() -> None:
     parser.add_argument("--model-sizes", type=int, nargs="+", default=[10_000, 100_000, 1_000_000],
                         help="the sizes of the cost model (benchmarks/gpu_cost_model.py)")
     parser.add_argument("--no-model", action="store_true", help="leave out the cost model")
+    parser.add_argument("--baseline", default=None, metavar="DIR",
+                        help="also time ABOBA of the openmmdpd installed in DIR (pip install --target DIR), interleaved")
     args = parser.parse_args()
     if args.child:
         method, n, platform_name, seconds = args.child
@@ -215,6 +225,8 @@ def main() -> None:
     scratch = tempfile.TemporaryDirectory()
     counter = build_opencl_counter(scratch.name) if "OpenCL" in platforms else None
     gpu_samples: Dict[tuple, List[dict]] = {}
+    # With --baseline DIR, each round runs ABOBA of the build in DIR right after this build's: A B A B ...
+    baseline_methods = (f"ABOBA{BASELINE_BUILD_SUFFIX}",) if args.baseline else ()
     for platform_name in platforms:
         if time.time() - began > args.max_seconds:
             sections.append([f"## {platform_name}: not timed (the time budget was spent)", ""])
@@ -231,10 +243,11 @@ def main() -> None:
                 break
             round_began = time.time()
             for n in sizes:
-                for method in METHODS + (BASELINE,):
+                for method in METHODS + baseline_methods + (BASELINE,):
                     if method == BASELINE and round_index > 0:
                         continue  # memory only
-                    sample = run_child(method, n, platform_name, args.seconds if method != BASELINE else 0.05, counter)
+                    sample = run_child(method, n, platform_name, args.seconds if method != BASELINE else 0.05, counter,
+                                       args.baseline)
                     if sample is None:
                         if method != BASELINE:
                             break  # out of memory at this size: larger ones will not fit either
@@ -243,7 +256,8 @@ def main() -> None:
                     print(f"  round {round_index + 1} {platform_name} {method} N={n}: "
                           f"{n / sample['seconds_per_step']:.3g} particle-steps/s", flush=True)
             last_round = time.time() - round_began
-            sections[-1] = table(platform_name, device, sizes, samples, on_cpu, round_index + 1, args.rounds)
+            sections[-1] = table(platform_name, device, sizes, samples, on_cpu, round_index + 1, args.rounds,
+                                 ("ABOBA",) if args.baseline else ())
             if not on_cpu:  # a GPU's ABOBA times, for the model's column
                 gpu_samples.update({key: runs for key, runs in samples.items() if key[0] == "ABOBA"})
             report(final=False)

@@ -61,6 +61,12 @@ public:
     static constexpr int scanSize = 256;
     /** The cells of one work-group's tile of the scan (DPD_SCAN_TILE in the kernel source). */
     static constexpr int scanTile = 8*scanSize;
+    /**
+     * The most tiles one work-group scans in turn, in one launch (a launch saved: about the cost of the
+     * extra tiles' serial pass on a GPU, 8 x 2048 cells, N of about 7 x 10^4 at rho = 3); more go a
+     * work-group a tile after a launch that sums them.
+     */
+    static constexpr int tilesOneWorkGroupScans = 8;
 
 private:
     OpenMM::ComputeContext& cc;

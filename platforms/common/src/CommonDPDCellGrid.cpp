@@ -95,9 +95,10 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
         locate.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
     else
         locate.run(numAtoms, -1, numAtoms, cc.getPosq(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
-    if (numTiles > 1)
+    int tilesInTurn = numTiles <= tilesOneWorkGroupScans ? 1 : 0; // one launch, not two
+    if (!tilesInTurn)
         sumTiles.run(numTiles*scanSize, scanSize, numCells, cellCount, tileSum);
-    scan.run(numTiles*scanSize, scanSize, numCells, numTiles, cellCount, tileSum, cellStart, cellCursor);
+    scan.run((tilesInTurn ? 1 : numTiles)*scanSize, scanSize, numCells, numTiles, tilesInTurn, cellCount, tileSum, cellStart, cellCursor);
     scatter.run(numAtoms, -1, numAtoms, cellOf, cellCursor, cellAtoms);
     sort.run(numCells, -1, numCells, cellStart, cellAtoms, cc.getAtomIndexArray());
 }

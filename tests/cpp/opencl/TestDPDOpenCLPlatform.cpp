@@ -53,21 +53,27 @@ INSTANTIATE_TEST_SUITE_P(Precisions, OpenCLPrecision, ::testing::Values("double"
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 TEST(OpenCLPlatform, CellGridOfSeveralScanTilesFindsEveryPair) {
-    // The scan of the cell counts runs a work-group per tile of 2048 cells (CommonDPDCellGrid::scanTile),
-    // each tile starting after the tiles before it: N = 7500 at density 3 has 13^3 = 2197 cells, two
-    // tiles.  A tile started in the wrong place would lose or misplace the particles of its cells, and the
-    // forces would not be Reference's (double precision: to 1e-10, as for one tile above).
-    SoftFluid fluid = makeSoftFluid(7500, 3.0, 6);
-    ASSERT_GT(std::pow(std::floor(fluid.boxLength), 3), 2048.0);
-    VerletIntegrator reference(0.01), device(0.01);
-    Context referenceContext(*fluid.system, reference, platform("Reference"));
-    auto deviceContext = openCLContext(*fluid.system, device, "double");
-    referenceContext.setPositions(fluid.positions);
-    deviceContext->setPositions(fluid.positions);
-    State expected = referenceContext.getState(State::Forces | State::Energy);
-    State actual = deviceContext->getState(State::Forces | State::Energy);
-    EXPECT_LT(relativeDifference(actual.getForces(), expected.getForces()), 1e-10);
-    EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-10*std::fabs(expected.getPotentialEnergy()));
+    // The scan of the cell counts works in tiles of 2048 cells (CommonDPDCellGrid::scanTile): up to
+    // 8 tiles one work-group scans in turn, carrying the running total; more go a work-group a tile,
+    // each starting after the totals of the tiles before it.  N = 7500 at density 3 has 13^3 = 2197
+    // cells, two tiles in turn; N = 54000 has 26^3 = 17576, nine tiles at once.  A tile started in the
+    // wrong place would lose or misplace the particles of its cells, and the forces would not be
+    // Reference's (double precision: to 1e-10, as for one tile above).
+    for (int numParticles : {7500, 54000}) {
+        SoftFluid fluid = makeSoftFluid(numParticles, 3.0, 6);
+        double cells = std::pow(std::floor(fluid.boxLength), 3);
+        ASSERT_GT(cells, numParticles == 7500 ? 2048.0 : 8*2048.0);
+        VerletIntegrator reference(0.01), device(0.01);
+        Context referenceContext(*fluid.system, reference, platform("Reference"));
+        auto deviceContext = openCLContext(*fluid.system, device, "double");
+        referenceContext.setPositions(fluid.positions);
+        deviceContext->setPositions(fluid.positions);
+        State expected = referenceContext.getState(State::Forces | State::Energy);
+        State actual = deviceContext->getState(State::Forces | State::Energy);
+        EXPECT_LT(relativeDifference(actual.getForces(), expected.getForces()), 1e-10) << numParticles;
+        EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-10*std::fabs(expected.getPotentialEnergy()))
+            << numParticles;
+    }
 }
 
 TEST(OpenCLPlatform, VelocityVerletStepMatchesReference) {

@@ -110,11 +110,12 @@ KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 boxSize, dou
 }
 
 /*
- * The first slot of every cell: an exclusive scan of the counts in tiles of DPD_SCAN_TILE cells, one
- * work-group of DPD_SCAN_SIZE threads a tile, so that the whole device takes part however many cells
- * there are (one work-group for all of them made a large grid's scan a serial pass).  With more than
- * one tile, dpdSumCellTiles first writes each tile's total; dpdScanCellCounts then starts each tile
- * after the totals of the tiles before it.  Integer sums only: the result does not depend on the order.
+ * The first slot of every cell: an exclusive scan of the counts in tiles of DPD_SCAN_TILE cells.  A grid
+ * of a few tiles is scanned by one work-group of DPD_SCAN_SIZE threads, tile after tile, in one launch;
+ * a larger one by a work-group a tile, so that the whole device takes part however many cells there are
+ * (one work-group for all of them made a large grid's scan a serial pass): dpdSumCellTiles first writes
+ * each tile's total, and dpdScanCellCounts then starts each tile after the totals of the tiles before
+ * it.  Integer sums only: the result does not depend on the order.
  */
 #define DPD_SCAN_CELLS_PER_THREAD (DPD_SCAN_TILE/DPD_SCAN_SIZE) // DPD_SCAN_TILE: CommonDPDCellGrid::scanTile
 
@@ -149,19 +150,25 @@ KERNEL void dpdSumCellTiles(int numCells, GLOBAL const int* RESTRICT cellCount, 
 }
 
 /**
- * cellStart and cellCursor of every cell (cellStart[numCells] = the total), a work-group a tile, each
- * thread DPD_SCAN_CELLS_PER_THREAD cells in a row.  The counts are left at zero for the next build's
- * dpdLocateParticles: no clearing launch per build.
+ * cellStart and cellCursor of every cell (cellStart[numCells] = the total), each thread
+ * DPD_SCAN_CELLS_PER_THREAD cells in a row of a tile.  With tilesInTurn, one work-group scans every tile
+ * in order, carrying the running total (a grid of a few tiles: no dpdSumCellTiles launch); otherwise a
+ * work-group a tile, each starting after the totals dpdSumCellTiles wrote.  The counts are left at zero
+ * for the next build's dpdLocateParticles: no clearing launch per build.
  */
-KERNEL void dpdScanCellCounts(int numCells, int numTiles, GLOBAL int* RESTRICT cellCount, GLOBAL const int* RESTRICT tileSum,
-                              GLOBAL int* RESTRICT cellStart, GLOBAL int* RESTRICT cellCursor) {
+KERNEL void dpdScanCellCounts(int numCells, int numTiles, int tilesInTurn, GLOBAL int* RESTRICT cellCount,
+                              GLOBAL const int* RESTRICT tileSum, GLOBAL int* RESTRICT cellStart, GLOBAL int* RESTRICT cellCursor) {
     LOCAL int sums[DPD_SCAN_SIZE];
-    for (int tile = GROUP_ID; tile < numTiles; tile += NUM_GROUPS) {
-        int earlier = 0; // the particles of the tiles before this one
-        for (int k = LOCAL_ID; k < tile; k += DPD_SCAN_SIZE)
-            earlier += tileSum[k];
-        dpdExclusiveScanOfWorkGroup(earlier, sums);
-        int tileStart = sums[DPD_SCAN_SIZE-1];
+    int running = 0; // tilesInTurn: the particles of the tiles already scanned
+    for (int tile = GROUP_ID; tile < numTiles; tile += tilesInTurn ? 1 : NUM_GROUPS) {
+        int tileStart = running;
+        if (!tilesInTurn) {
+            int earlier = 0; // the particles of the tiles before this one
+            for (int k = LOCAL_ID; k < tile; k += DPD_SCAN_SIZE)
+                earlier += tileSum[k];
+            dpdExclusiveScanOfWorkGroup(earlier, sums);
+            tileStart = sums[DPD_SCAN_SIZE-1];
+        }
         int first = tile*DPD_SCAN_TILE+LOCAL_ID*DPD_SCAN_CELLS_PER_THREAD;
         int counts[DPD_SCAN_CELLS_PER_THREAD], total = 0;
         for (int k = 0; k < DPD_SCAN_CELLS_PER_THREAD; k++) {
@@ -169,6 +176,7 @@ KERNEL void dpdScanCellCounts(int numCells, int numTiles, GLOBAL int* RESTRICT c
             total += counts[k];
         }
         int start = tileStart+dpdExclusiveScanOfWorkGroup(total, sums);
+        running = tileStart+sums[DPD_SCAN_SIZE-1];
         for (int k = 0; k < DPD_SCAN_CELLS_PER_THREAD && first+k < numCells; k++) {
             cellStart[first+k] = start;
             cellCursor[first+k] = start;
