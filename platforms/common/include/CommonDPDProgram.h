@@ -20,7 +20,7 @@ public:
     /** The lanes of a sweep's work-group (one block of the cell grid each, dpdPairSweep.cc). */
     static constexpr int sweepLanes = 64;
     /**
-     * The pairs a sweep buffers before it applies them in rounds, per lane (dpdPairSweep.cc): the more,
+     * The pairs a sweep buffers before it applies them in rounds, per lane (dpdPairRounds.cc): the more,
      * the fewer rounds a block takes (measured on a soft fluid at rho = 3: rounds / pairs 0.29 with 2,
      * 0.19 with 4, 0.14 with 8), and the less local memory is left for the region.
      */

@@ -1,0 +1,191 @@
+/*
+ * The rounds of disjoint pairs of the GPU platforms' successive sweeps (dpdPairSweep.cc): the pairs a
+ * block's lanes find are buffered in the sweep's order, linked to the latest earlier pair of each of
+ * their particles (dpdLinkBufferedPairs), and applied in rounds, every lane at once, with the
+ * sequential sweep's bits (dpdApplyBufferedPairsInRounds); what the sweep gathers is summed over each
+ * lane's pairs in order and then over the lanes in a fixed tree (dpdSumOverLanes).
+ */
+
+#define DPD_SWEEP_PAIRS (DPD_SWEEP_PAIRS_PER_LANE*DPD_SWEEP_LANES) // the buffer of pairs found and not yet applied
+#define DPD_SWEEP_NO_PAIR 0xffff
+
+/**
+ * For the pair this lane found at buffer position k (found: 1) in the chunk whose pairs fill positions
+ * [chunkStart, chunkEnd): the latest earlier buffered pair that touches its i, and the one that touches
+ * its j (DPD_SWEEP_NO_PAIR if none since the buffer's last application).  Within the chunk (a few
+ * pairs) it looks back; before it, it reads latestPair, each region slot's latest pair numbered over
+ * the whole block (flushStart: the block number of the buffer's first pair), which the chunk's last
+ * pair of each particle then updates.  Every lane calls it.  With DPD_SWEEP_IN_ROUNDS 0 every pair
+ * waits for the one before it instead: the chain itself, one pair a round, whose bits the rounds must
+ * give (the test).
+ */
+DEVICE void dpdLinkBufferedPairs(int found, int k, int chunkStart, int chunkEnd, int flushStart, int held, LOCAL_ARG const int* pairI,
+                                 LOCAL_ARG const int* pairJ, LOCAL_ARG unsigned short* pairAfterI, LOCAL_ARG unsigned short* pairAfterJ,
+                                 LOCAL_ARG int* latestPair) {
+    SYNC_THREADS; // the chunk's pairs written
+    int lastOfI = 0, lastOfJ = 0;
+    if (found) {
+        int i = pairI[k], j = pairJ[k], afterI = DPD_SWEEP_NO_PAIR, afterJ = DPD_SWEEP_NO_PAIR;
+#if DPD_SWEEP_IN_ROUNDS
+        // A region swept in global memory has no slot table: its pairs look back over the whole buffer.
+        for (int earlier = k-1; earlier >= (held ? chunkStart : 0) && (afterI == DPD_SWEEP_NO_PAIR || afterJ == DPD_SWEEP_NO_PAIR); earlier--) {
+            int a = pairI[earlier], b = pairJ[earlier];
+            if (afterI == DPD_SWEEP_NO_PAIR && (a == i || b == i))
+                afterI = earlier;
+            if (afterJ == DPD_SWEEP_NO_PAIR && (a == j || b == j))
+                afterJ = earlier;
+        }
+        if (held) {
+            if (afterI == DPD_SWEEP_NO_PAIR && latestPair[i] >= flushStart)
+                afterI = latestPair[i]-flushStart;
+            if (afterJ == DPD_SWEEP_NO_PAIR && latestPair[j] >= flushStart)
+                afterJ = latestPair[j]-flushStart;
+        }
+#else
+        if (k > 0)
+            afterI = k-1;
+#endif
+        if (held) { // the table is also what marks a slot touched, in either order
+            lastOfI = lastOfJ = 1;
+            for (int later = k+1; later < chunkEnd; later++) {
+                int a = pairI[later], b = pairJ[later];
+                lastOfI &= a != i && b != i;
+                lastOfJ &= a != j && b != j;
+            }
+        }
+        pairAfterI[k] = (unsigned short) afterI;
+        pairAfterJ[k] = (unsigned short) afterJ;
+    }
+    SYNC_THREADS; // every lane has read latestPair
+    if (lastOfI)
+        latestPair[pairI[k]] = flushStart+k;
+    if (lastOfJ)
+        latestPair[pairJ[k]] = flushStart+k;
+}
+
+/**
+ * Apply the numBuffered pairs of the buffer, every lane at once, in rounds of pairs that share no
+ * particle: bit for bit the updates one after another in the buffer's order (the sweep's order).  A
+ * pair update reads and writes only v_i and v_j, so two that share no particle commute exactly; each
+ * particle must see its pairs in the buffer's order, and that alone.  So pair k waits for the latest
+ * earlier pair that touches its i (pairAfterI) and for the one that touches its j (pairAfterJ,
+ * dpdLinkBufferedPairs), and a round applies every pair whose two have been applied: a particle has at
+ * most one such pair, the pairs of a round are disjoint, and each particle's velocity goes through the
+ * same updates with the same arithmetic as in the chain.  The rounds number the longest chain of
+ * dependent pairs in the buffer, not its pairs.
+ *
+ * Lane l owns the pairs l, l + LOCAL_SIZE, ...: it takes their coefficients from the buffer and finds
+ * their geometry again from the positions (dpdPairGeometry: the search's bits) into registers, so the
+ * buffer holds no geometry.  With gather, it adds its pairs' stress and Norton response (after all the
+ * rounds, in the order of its pairs) to its own sums, which the block adds over the lanes in a fixed
+ * order (dpdSumOverLanes).  Returns the number of rounds.  Every lane of the work-group calls it.
+ */
+DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITIONS, GLOBAL mixed4* RESTRICT velm,
+                                         GLOBAL const int* RESTRICT atomIndex, LOCAL_ARG const mixed4* regionPosition,
+                                         LOCAL_ARG mixed4* regionVelocity, LOCAL_ARG const int* regionOriginal,
+                                         double4 boxSize, double4 inverseBoxSize, double maxCutoff2, double shearRate, int gatherStress,
+                                         int withResponse, GLOBAL const double* RESTRICT responseField, LOCAL_ARG const int* pairI,
+                                         LOCAL_ARG const int* pairJ, LOCAL_ARG const double* pairSlope, LOCAL_ARG const double* pairOffset,
+                                         LOCAL_ARG const unsigned short* pairAfterI, LOCAL_ARG const unsigned short* pairAfterJ,
+                                         LOCAL_ARG unsigned short* pairRound, LOCAL_ARG int* pending, double* stress, double* response) {
+    int laneI[DPD_SWEEP_PAIRS_PER_LANE], laneJ[DPD_SWEEP_PAIRS_PER_LANE], laneAfterI[DPD_SWEEP_PAIRS_PER_LANE], laneAfterJ[DPD_SWEEP_PAIRS_PER_LANE];
+    double laneSlope[DPD_SWEEP_PAIRS_PER_LANE], laneOffset[DPD_SWEEP_PAIRS_PER_LANE], laneDissipative[DPD_SWEEP_PAIRS_PER_LANE];
+    DPDPairGeometry laneGeometry[DPD_SWEEP_PAIRS_PER_LANE];
+    int left = 0, numRounds = 0; // left: a bit for each of this lane's pairs not yet applied
+    for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE; n++) {
+        int k = LOCAL_ID+n*LOCAL_SIZE;
+        if (k >= numBuffered)
+            break;
+        int i = pairI[k], j = pairJ[k];
+        laneI[n] = i;
+        laneJ[n] = j;
+        laneAfterI[n] = pairAfterI[k];
+        laneAfterJ[n] = pairAfterJ[k];
+        laneSlope[n] = pairSlope[k];
+        laneOffset[n] = pairOffset[k];
+        laneGeometry[n] = held ? dpdPairGeometry(regionPosition[i], regionPosition[j], maxCutoff2, boxSize, inverseBoxSize)
+                               : dpdPairGeometry(DPD_POSITION(i), DPD_POSITION(j), maxCutoff2, boxSize, inverseBoxSize);
+        pairRound[k] = 0;
+        left |= 1<<n;
+    }
+    if (LOCAL_ID == 0)
+        pending[1] = 0;
+    SYNC_THREADS;
+    // Round t applies the pairs whose two predecessors were applied in rounds before t (pairRound: the
+    // round a pair was applied in, 0 before), so one barrier a round suffices: a predecessor applied in
+    // this round reads as not yet done (its round is not below t), before the barrier or after.
+    for (int round = 1;; round++) {
+        for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE; n++) {
+            if (!(left & (1<<n)))
+                continue;
+            int afterI = laneAfterI[n], afterJ = laneAfterJ[n];
+            int roundI = afterI == DPD_SWEEP_NO_PAIR ? 0 : pairRound[afterI], roundJ = afterJ == DPD_SWEEP_NO_PAIR ? 0 : pairRound[afterJ];
+            if ((afterI != DPD_SWEEP_NO_PAIR && (roundI == 0 || roundI == round)) ||
+                (afterJ != DPD_SWEEP_NO_PAIR && (roundJ == 0 || roundJ == round)))
+                continue; // a predecessor not yet applied
+            int i = laneI[n], j = laneJ[n];
+            mixed4 vi = held ? regionVelocity[i] : velm[i], vj = held ? regionVelocity[j] : velm[j];
+            double ex = laneGeometry[n].ex, ey = laneGeometry[n].ey, ez = laneGeometry[n].ez;
+            DPDPairUpdate update = dpdPairUpdate(laneSlope[n], laneOffset[n]);
+            // The lab-frame relative velocity: peculiar velocities plus the streaming difference.
+            double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
+                       leesEdwardsRelativeVelocity(shearRate, laneGeometry[n].r, ex, ey);
+            double change = dpdMomentumChange(update, u);
+            laneDissipative[n] = dpdDissipativePart(update, u);
+            vi.x += (mixed) (change*ex*vi.w);
+            vi.y += (mixed) (change*ey*vi.w);
+            vi.z += (mixed) (change*ez*vi.w);
+            vj.x -= (mixed) (change*ex*vj.w);
+            vj.y -= (mixed) (change*ey*vj.w);
+            vj.z -= (mixed) (change*ez*vj.w);
+            if (held) {
+                regionVelocity[i] = vi;
+                regionVelocity[j] = vj;
+            }
+            else {
+                velm[i] = vi;
+                velm[j] = vj;
+            }
+            pairRound[LOCAL_ID+n*LOCAL_SIZE] = (unsigned short) round;
+            left &= ~(1<<n);
+        }
+        // Whether any lane has pairs left, in a flag of three: lane 0 clears the one of the round after
+        // this, which every lane read two barriers ago.
+        if (left)
+            pending[round%3] = 1;
+        if (LOCAL_ID == 0)
+            pending[(round+1)%3] = 0;
+        SYNC_THREADS;
+        if (!pending[round%3]) {
+            numRounds = round;
+            break;
+        }
+    }
+    for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE && LOCAL_ID+n*LOCAL_SIZE < numBuffered; n++) {
+        double r = laneGeometry[n].r, ex = laneGeometry[n].ex, ey = laneGeometry[n].ey, ez = laneGeometry[n].ez;
+        if (withResponse) { // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
+            int i = held ? regionOriginal[laneI[n]] : atomIndex[laneI[n]], j = held ? regionOriginal[laneJ[n]] : atomIndex[laneJ[n]];
+            *response += laneDissipative[n]*(ex*(responseField[3*i]-responseField[3*j])+ey*(responseField[3*i+1]-responseField[3*j+1])+
+                                             ez*(responseField[3*i+2]-responseField[3*j+2]));
+        }
+        if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts
+            dpdAddPairStress(stress, r, laneDissipative[n], ex, ey, ez);
+            dpdAddPairStress(stress+6, r, laneOffset[n], ex, ey, ez);
+        }
+    }
+    return numRounds;
+}
+
+/** The sum over the work-group's lanes of each lane's value, in a fixed tree order (the same bits on every run), in every lane. */
+DEVICE double dpdSumOverLanes(double value, LOCAL_ARG double* scratch) {
+    scratch[LOCAL_ID] = value;
+    SYNC_THREADS;
+    for (int stride = LOCAL_SIZE/2; stride > 0; stride /= 2) {
+        if (LOCAL_ID < stride)
+            scratch[LOCAL_ID] += scratch[LOCAL_ID+stride];
+        SYNC_THREADS;
+    }
+    double sum = scratch[0];
+    SYNC_THREADS; // read before the next call writes
+    return sum;
+}
