@@ -46,14 +46,16 @@ typedef double4 mixed4;
 #define PADDED_NUM_ATOMS 1024
 #define DPD_SCAN_SIZE 256
 #define DPD_SCAN_TILE 2048
-// CommonDPDProgram::compile's sweep sizes (maxBlockWidth 4; sweepCapacity's default): ptxas refuses a
+// CommonDPDProgram::compile's sweep sizes (maxBlockWidth 4, sweepPairsPerLane, sweepCapacity's default): ptxas refuses a
 // kernel whose static shared memory passes CUDA's 48 KiB, so this also checks the capacity fits.
 #define DPD_SWEEP_MAX_BLOCK_CELLS 64
 #define DPD_SWEEP_MAX_REGION_CELLS 180
 #define DPD_SWEEP_LANES 64
+#define DPD_SWEEP_PAIRS_PER_LANE 4
+#define DPD_SWEEP_IN_ROUNDS 1
 #if defined(DPD_PRECISION_SINGLE)
-#define DPD_SWEEP_CAPACITY 564
+#define DPD_SWEEP_CAPACITY 489
 #else
-#define DPD_SWEEP_CAPACITY 338
+#define DPD_SWEEP_CAPACITY 293
 #endif
 #define DPD_KERNEL_SOURCE
