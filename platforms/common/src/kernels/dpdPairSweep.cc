@@ -20,8 +20,9 @@
  * buffer in the sweep's order.  The buffered pairs are then applied in rounds of pairs that share no
  * particle, every lane at once (dpdApplyBufferedPairsInRounds): each particle sees its pairs in the
  * sweep's order with the same arithmetic, so the result is the sequential sweep's bits whatever the
- * number of lanes, and the chain of dependent updates is about the most pairs one particle has, not
- * the block's pair count (dpdPairRounds.cc; the search: dpdPairSearch.cc).
+ * number of lanes, and the chain of dependent updates is the depth of the pairs' dependencies in the
+ * sweep's order (about a quarter of a block's pairs on the soft fluid), not the block's pair count
+ * (dpdPairRounds.cc; the search: dpdPairSearch.cc).
  */
 
 #define DPD_SWEEP_ORNSTEIN_UHLENBECK 0
