@@ -125,7 +125,7 @@ class SweepCost:
     pairs: int
 
 
-def sweep_cost(sweep: dict, n: int, gpu: TargetGpu, blocks_at_once: int = 1) -> SweepCost:
+def sweep_cost(sweep: dict, gpu: TargetGpu, blocks_at_once: int = 1) -> SweepCost:
     """What one sweep costs on `gpu`, with `blocks_at_once` blocks a work-group side by side (1 now; more is a what-if)."""
     groups = gpu.concurrent_work_groups * blocks_at_once
     critical_rounds, critical_chain, critical_cycles, turns = 0, 0, 0.0, 0
@@ -167,19 +167,16 @@ class StepModel:
 
 
 def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu) -> StepModel:
-    sweep = sweep_cost(sweeps[-1], n, gpu)
+    sweep = sweep_cost(sweeps[-1], gpu)
     per_step = len(sweeps) // 2  # two steps were profiled
     bytes_per_particle = {name: KERNEL_BYTES.get(name, 0.0) * count for name, count in launches.items() if name != "dpdSweepColour"}
     bytes_per_particle["dpdSweepColour"] = per_step * sweep.region_particles * (SWEEP_BYTES_PER_REGION_PARTICLE + SWEEP_BYTES_PER_WRITE)
     seconds = sum(launches.values()) * gpu.launch_seconds
-    for name, count in launches.items():
-        if name == "dpdSweepColour":
-            colours = count / max(per_step, 1)
-            memory = bytes_per_particle[name] * n / gpu.bandwidth_bytes_per_second
-            seconds += max(memory, per_step * sweep.critical_seconds) if colours else 0.0
-        else:
-            seconds += bytes_per_particle[name] * n / gpu.bandwidth_bytes_per_second
-    at_once = {s: per_step * sweep_cost(sweeps[-1], n, gpu, s).critical_rounds for s in (2, 4)}
+    for name in launches:
+        memory = bytes_per_particle[name] * n / gpu.bandwidth_bytes_per_second
+        # The sweep takes the longer of its bytes and its critical path (its latency), each of its sweeps a step.
+        seconds += max(memory, per_step * sweep.critical_seconds) if name == "dpdSweepColour" else memory
+    at_once = {s: per_step * sweep_cost(sweeps[-1], gpu, s).critical_rounds for s in (2, 4)}
     return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once)
 
 

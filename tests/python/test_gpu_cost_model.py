@@ -25,11 +25,11 @@ def test_critical_path_is_the_slowest_work_group_summed_over_the_colours():
     sweep = synthetic_sweep([[3, 1, 4, 1, 5], [9, 2, 6, 5, 3]])
     # Two work-groups: block b of a colour goes to work-group b mod 2.
     # Colour 0: group 0 sweeps 3 + 4 + 5 = 12, group 1 sweeps 1 + 1 = 2; colour 1: 9 + 6 + 3 = 18 against 7.
-    two = model.sweep_cost(sweep, 1000, gpu_with(2))
+    two = model.sweep_cost(sweep, gpu_with(2))
     assert two.critical_rounds == 12 + 18
     assert two.blocks_in_turn == 3
     # As many work-groups as blocks: each colour takes its slowest block.
-    five = model.sweep_cost(sweep, 1000, gpu_with(5))
+    five = model.sweep_cost(sweep, gpu_with(5))
     assert five.critical_rounds == 5 + 9
     assert five.blocks_in_turn == 1
     assert five.critical_seconds < two.critical_seconds
@@ -43,7 +43,7 @@ def test_the_profile_of_a_real_sweep_has_far_fewer_rounds_than_pairs():
         pytest.skip("OpenMM has no OpenCL platform here")
     sweeps = model.sweep_profile(1536, "OpenCL")  # two ABOBA steps: one O sweep each
     assert len(sweeps) == 2
-    cost = model.sweep_cost(sweeps[-1], 1536, model.H200)
+    cost = model.sweep_cost(sweeps[-1], model.H200)
     assert cost.pairs > 1536 * 5  # about 6 pairs a particle
     # A block's rounds are the depth of its pairs' dependencies: a fifth to a quarter of its pairs at rho = 3.
     assert 0.05 < cost.rounds_per_block / cost.pairs_per_block < 0.4  # measured 0.28 (2-cell blocks)
