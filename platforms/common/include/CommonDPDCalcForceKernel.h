@@ -2,6 +2,7 @@
 #define OPENMMDPD_COMMONDPDCALCFORCEKERNEL_H_
 
 #include "CommonDPDCellGrid.h"
+#include "DPDPairListOwner.h"
 #include "openmm/common/ComputeArray.h"
 #include "openmm/common/ComputeContext.h"
 #include "openmmdpd/CalcDPDForceKernel.h"
@@ -17,7 +18,7 @@ namespace OpenMMDPD {
  * floating-point atomics, so the same positions give the same bits.  Per-particle types are kept by
  * System index and read through OpenMM's atomIndex, so OpenMM's reordering of atoms needs no upload.
  */
-class CommonDPDCalcForceKernel : public CalcDPDForceKernel {
+class CommonDPDCalcForceKernel : public CalcDPDForceKernel, public DPDPairListOwner {
 public:
     CommonDPDCalcForceKernel(const std::string& name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc)
         : CalcDPDForceKernel(name, platform), cc(cc) {}
@@ -27,11 +28,10 @@ public:
     void checkCutoffFitsBox(OpenMM::ContextImpl& context, double maxCutoff) const override;
     void checkParametersFitBox(OpenMM::ContextImpl& context) const override { checkCutoffFitsBox(context, parameters.maxCutoff); }
 
-    /** The grid of the latest evaluation (cells at least getCutoff() wide), for a DPDIntegrator sweeping at the same positions. */
+    /** The grid of the latest evaluation (cells at least getPairListCutoff() wide), for a DPDIntegrator sweeping at the same positions. */
     CommonDPDCellGrid& getGrid() const { return *grid; }
-    /** Counts evaluations, so a reader can tell whether the grid belongs to the positions it holds. */
-    long long getEvaluationCount() const { return evaluationCount; }
-    double getCutoff() const { return parameters.maxCutoff; }
+    long long getEvaluationCount() const override { return evaluationCount; }
+    double getPairListCutoff() const override { return parameters.maxCutoff; }
     /**
      * While set, every evaluation also writes each particle's half of sum_j r_ij (x) F_ij to
      * getVirialRows() (6 per particle): the conservative part of the stress from the force pass itself.

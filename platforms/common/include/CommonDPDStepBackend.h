@@ -46,33 +46,27 @@ public:
     CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM::ComputeContext& cc, const DPDIntegrator& integrator, DPDSchemeState& state);
     ~CommonDPDStepBackend() override;
 
-    void beginStep(const DPDIntegrator& integrator) override;
-    DPDTypePairTable::Compiled compileFriction(const DPDTypePairTable& table) const override;
     /** Half the box, and the cell grid's 3 cells a side where there is a sweep. */
     void checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const override;
-    bool isFrictionless() const override { return friction.allValuesZero; }
     int getNumParticles() const override { return cc.getNumAtoms(); }
     void endStep(double stepSize, double stressScale) override;
     void abandonStep() override;
-    long long getStepCount() const override { return cc.getStepCount(); }
     DPDFusionSupport fusionSupport() const override;
 
-    bool useForcesOfPreviousStep(bool withPairs) override;
+    // Each operation a kernel on OpenMM's device arrays.
     void storeForces() override;
     void evaluateForces(bool keepForces, bool needPairs) override;
     void findPairs() override;
     int drift(double dt, int times, double kickDt, bool* velocitiesFinite) override;
     bool kick(double dt, bool keepForces) override;
-    double sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep, bool response) override;
+    void sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep) override;
     void sweepBBK(const DPDSweepRequest& sweep) override;
     void addDissipativeAndRandomForces(const DPDSweepRequest& sweep) override;
-    bool sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& sweep, double kickDt) override;
-    bool kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) override;
     void moveImages(double elapsed, bool wrap) override;
+
+    // NEMD and Norton: the fields and the scalars in device memory (CommonDPDForcing's registers).
     std::optional<double> evaluateForcingField() override;
-    double responseOfVelocities() const override;
     void applyForcingImpulse(double xi) override;
-    bool keepsTransportScalars() const override { return true; }
     void projectOntoTarget(double target, bool counted) override;
     void addDissipationToMultiplier() override;
     void recordForcing(double stepSize) override;
@@ -80,15 +74,11 @@ public:
     void writeTransport(const DPDIntegrator::TransportStatistics& statistics) override;
     void readTransport(DPDIntegrator::TransportStatistics& statistics) const override;
 
-    std::vector<OpenMM::Vec3> getStoredForces(OpenMM::Vec3* box) const override;
-    void setStoredForces(std::vector<OpenMM::Vec3> forces, const OpenMM::Vec3* box) override;
     DPDIntegrator::StressStatistics& stressStatistics() override { return stress->statisticsToWrite(); }
     const DPDIntegrator::StressStatistics& stressStatistics() const override { return stress->statistics(); }
     void resetStressStatistics() override { stress->reset(); }
 
     double computeKineticEnergy();
-    /** Positions, velocities or parameters were set from outside (checked before the next step). */
-    void stateChanged(OpenMM::State::DataType changed);
     /** A step() call begins: its first step is the Context's next. */
     void beginCall() { firstStepOfCall = cc.getStepCount()+1; }
     /** What the device recorded in this call (0: nothing), the record then cleared. */
@@ -101,43 +91,40 @@ public:
     /** The first particle (System index) whose position or velocity is not finite, or -1. */
     int firstNonFiniteParticle() const;
 
+protected:
+    void getBox(OpenMM::Vec3* box) const override { cc.getPeriodicBoxVectors(box[0], box[1], box[2]); }
+    void checkExternalState() const override;
+    DPDLeesEdwardsFlow& shearFlow() override { return shear->flow(); }
+    void bindShearToContext() override;
+    void wrapIntoPrimaryCell() override;
+    void prepareStressSample() override;
+    void beginStressSample() override;
+    void frictionChanged() override;
+    std::vector<OpenMM::Vec3> storedForceValues() const override;
+    void keepStoredForces(std::vector<OpenMM::Vec3> forces) override;
+    void usePairsOfSharedForce() override { grid = &sharedForceKernel->getGrid(); }
+    double responseOfVelocities() const override;
+
 private:
     class AtomReorderListener;
-    void uploadFriction(DPDTypePairTable::Compiled updated, unsigned long long revision);
 
-    void checkExternalState() const;
-    void sweep(int mode, const DPDSweepRequest& request, bool response = false);
+    void sweep(int mode, const DPDSweepRequest& request);
     void atomsWereReordered();
     /** The step being taken, counted from the call's first (1), as the device records it. */
     int stepOfCall() const;
     long long firstStepOfCall = 1;
-    OpenMM::ContextImpl& context;
     OpenMM::ComputeContext& cc;
-    DPDSchemeState& state;
-    int integrationGroups;
-    double kT;
-    DPDTypePairTable::Compiled friction;
-    unsigned long long frictionRevision;
     std::unique_ptr<CommonDPDCellGrid> ownGrid;
     CommonDPDCellGrid* grid = nullptr;                      // the pairs of the sweeps: ownGrid or the DPDForce's
     CommonDPDCalcForceKernel* sharedForceKernel = nullptr; // the integrated DPDForce (its grid, its force pass's virial)
     std::unique_ptr<CommonDPDStressAccumulator> stress;
     std::unique_ptr<CommonDPDSweepProfile> profile;
-    bool accumulateStress = false;
     const OpenMM::ForceImpl* sharedForceImpl = nullptr;      // sharedForceKernel's force
-    bool onlyForcesTheStepEvaluates = true;                   // every force is a potential of the step's evaluation
     std::unique_ptr<DPDConservativeVirial> otherForcesVirial; // the conservative stress of the integrated forces but that one
     CommonDPDKernel kickKernel, driftKernel, sweepKernel, gatherForcesKernel;
     std::unique_ptr<CommonDPDLeesEdwards> shear;
     std::unique_ptr<CommonDPDForcing> forcing;
-    const DPDIntegrator* forcedIntegrator = nullptr;
-    double largestCutoff = 0.0;
     OpenMM::ComputeArray typeOf, frictionValues, frictionCutoffs, storedForces, flags;
-    bool pairsAtCurrentPositions = false; // the grid belongs to the current positions
-    bool latestForcesStored = false;      // the latest forces are the stored copy, not the Context's
-    bool externalStateUnchecked = true;
-    OpenMM::Vec3 boxOfStoredForces[3];
-    double maxDisplacementPerDrift = 0.0;
 };
 
 } // namespace OpenMMDPD

@@ -42,7 +42,7 @@ void CommonDPDStepBackend::atomsWereReordered() {
 
 CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM::ComputeContext& cc, const DPDIntegrator& integrator,
                                            DPDSchemeState& state)
-    : context(context), cc(cc), state(state), integrationGroups(integrator.getIntegrationForceGroups()) {
+    : DPDStepBackend(context, integrator, state), cc(cc) {
     if (cc.getNumContexts() > 1)
         throw OpenMM::OpenMMException("DPDIntegrator: the OpenCL and CUDA platforms integrate on one device only; set the "
                                       "platform property DeviceIndex to a single device");
@@ -61,34 +61,24 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     storedForces.initialize<long long>(cc, 3*system.getNumParticles(), "dpdStoredForces");
     flags.initialize<int>(cc, 2, "dpdFailedSteps");
     cc.clearBuffer(flags);
-    uploadFriction(DPDFrictionTable::compile(system, integrator.getTable()), integrator.getTable().getRevision());
+    frictionChanged(); // its first upload
     Vec3 box[3];
     system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-    DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
     CommonDPDCellGrid::layOut(box, friction.maxCutoff, "DPDIntegrator");
     cc.addReorderListener(new AtomReorderListener(*this)); // the context owns and deletes it
     shear = std::make_unique<CommonDPDLeesEdwards>(cc, program);
     forcing = std::make_unique<CommonDPDForcing>(cc, program, system);
-    largestCutoff = DPDLeesEdwardsFlow::largestCutoff(system, friction.maxCutoff);
-    if (integrator.getShearRate() != 0.0)
-        DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
     stress = std::make_unique<CommonDPDStressAccumulator>(cc, program);
     profile = std::make_unique<CommonDPDSweepProfile>(cc);
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
-        // A force outside the step's evaluation, or one that may act between steps (updateContextState:
-        // a CMMotionRemover, a barostat, a plugin's force), keeps the steps of a call apart: only the
-        // potentials the exact observables know (DPDForce, CustomNonbondedForce, bonded terms) may share.
-        const OpenMM::Force& force = impl->getOwner();
-        bool integrated = (integrationGroups & (1 << force.getForceGroup())) != 0;
-        onlyForcesTheStepEvaluates &= integrated && DPDPairPotentialTerms::hasExactTerms(force, impl) &&
-                                      !DPDPairPotentialTerms::hasNoPotential(force);
-        if (!integrated)
+        if ((integrationGroups & (1 << impl->getOwner().getForceGroup())) == 0)
             continue;
         auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
         auto* kernel = forceImpl == nullptr ? nullptr : dynamic_cast<CommonDPDCalcForceKernel*>(&forceImpl->getKernel().getImpl());
         if (kernel != nullptr && sharedForceKernel == nullptr) {
             sharedForceKernel = kernel;
             sharedForceImpl = impl;
+            sharedPairs = kernel;
         }
     }
 }
@@ -100,12 +90,6 @@ void CommonDPDStepBackend::abandonStep() {
 
 CommonDPDStepBackend::~CommonDPDStepBackend() = default;
 
-DPDTypePairTable::Compiled CommonDPDStepBackend::compileFriction(const DPDTypePairTable& table) const {
-    DPDTypePairTable::Compiled compiled = DPDFrictionTable::compile(context.getSystem(), table);
-    checkFrictionCutoffFitsBox(compiled);
-    return compiled;
-}
-
 void CommonDPDStepBackend::checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const {
     if (compiled.allValuesZero) { // no sweep, so no cell grid of the integrator's own
         Vec3 box[3];
@@ -116,9 +100,8 @@ void CommonDPDStepBackend::checkFrictionCutoffFitsBox(const DPDTypePairTable::Co
         CommonDPDCellGrid::checkCutoffFitsBox(cc, compiled.maxCutoff, "DPDIntegrator");
 }
 
-void CommonDPDStepBackend::uploadFriction(DPDTypePairTable::Compiled updated, unsigned long long revision) {
-    friction = std::move(updated);
-    frictionRevision = revision;
+void CommonDPDStepBackend::frictionChanged() {
+    OpenMM::ContextSelector selector(cc);
     typeOf.upload(friction.particleTypeIndex);
     int numValues = static_cast<int>(friction.value.size());
     if (!frictionValues.isInitialized()) {
@@ -133,58 +116,28 @@ void CommonDPDStepBackend::uploadFriction(DPDTypePairTable::Compiled updated, un
     frictionCutoffs.upload(friction.cutoff);
 }
 
-void CommonDPDStepBackend::beginStep(const DPDIntegrator& integrator) {
+void CommonDPDStepBackend::bindShearToContext() {
     OpenMM::ContextSelector selector(cc);
-    // Every check that can refuse the step, before anything changes or moves (DPDStepBackend::beginStep).
-    bool stateSetFromOutside = externalStateUnchecked;
-    if (externalStateUnchecked)
-        checkExternalState();
-    DPDForceImpl::checkEveryDPDForceFitsBox(context, integrationGroups); // the box may have changed since the last step
-    std::optional<DPDTypePairTable::Compiled> updatedFriction = frictionForStep(integrator, frictionRevision, friction);
-    Vec3 box[3];
-    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    DPDLeesEdwardsFlow& flow = shear->flow();
-    if (integrator.getShearRate() != 0.0) {
-        DPDLeesEdwardsFlow::checkBox(context.getSystem(), box, largestCutoff, integrator.getShearRate());
-        if (!flow.isBoundToContext()) // throws for a molecule the sheared box cannot keep whole
-            shear->bind(context);
-    }
-    if (integrator.getStressAccumulation()) { // throws for a force whose stress is not understood
-        if (!otherForcesVirial)
-            otherForcesVirial = std::make_unique<DPDConservativeVirial>(context, integrationGroups, sharedForceImpl);
-        else // updateParametersInContext and setParameter since the last sample
-            otherForcesVirial->refresh(context);
-    }
+    shear->bind(context);
+}
 
-    externalStateUnchecked = false;
-    forcedIntegrator = &integrator;
-    kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
-    if (updatedFriction.has_value()) { // setDefaultFriction ... on a bound integrator take effect here, at the next step
-        uploadFriction(std::move(*updatedFriction), integrator.getTable().getRevision());
-        state.storedForcesValid = false; // VV's stored dissipative force used the old friction
-        pairsAtCurrentPositions = false; // S1's stored pairs may not reach a larger cutoff
-    }
-    flow.setShearRate(integrator.getShearRate());
-    if (flow.isSheared()) {
-        // Positions set by the user may lie any number of box heights away: the sheared drift moves a
-        // particle with the streaming velocity of where it is, so it starts from its image in the box.
-        if (stateSetFromOutside) {
-            shear->wrapIntoPrimaryCell();
-            pairsAtCurrentPositions = friction.allValuesZero;
-        }
-        flow.beginStep(box);
-    }
-    maxDisplacementPerDrift = 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2]));
-    for (int k = 0; k < 3; k++)
-        if (box[k] != boxOfStoredForces[k])
-            state.storedForcesValid = false;
-    state.keepStoredForcesThroughStateChanges = false;
-    accumulateStress = integrator.getStressAccumulation();
-    if (accumulateStress) {
-        stress->beginSample();
-        if (sharedForceKernel != nullptr) // its force pass gives its conservative part at the step's evaluation
-            sharedForceKernel->setComputeVirial(true);
-    }
+void CommonDPDStepBackend::wrapIntoPrimaryCell() {
+    OpenMM::ContextSelector selector(cc);
+    shear->wrapIntoPrimaryCell();
+}
+
+void CommonDPDStepBackend::prepareStressSample() {
+    if (!otherForcesVirial)
+        otherForcesVirial = std::make_unique<DPDConservativeVirial>(context, integrationGroups, sharedForceImpl);
+    else // updateParametersInContext and setParameter since the last sample
+        otherForcesVirial->refresh(context);
+}
+
+void CommonDPDStepBackend::beginStressSample() {
+    OpenMM::ContextSelector selector(cc);
+    stress->beginSample();
+    if (sharedForceKernel != nullptr) // its force pass gives its conservative part at the step's evaluation
+        sharedForceKernel->setComputeVirial(true);
 }
 
 void CommonDPDStepBackend::checkExternalState() const {
@@ -266,13 +219,6 @@ DPDFusionSupport CommonDPDStepBackend::fusionSupport() const {
     return support;
 }
 
-bool CommonDPDStepBackend::useForcesOfPreviousStep(bool withPairs) {
-    if (!state.storedForcesValid || (withPairs && !pairsAtCurrentPositions))
-        return false;
-    latestForcesStored = true;
-    return true;
-}
-
 void CommonDPDStepBackend::storeForces() {
     if (latestForcesStored)
         return;
@@ -283,22 +229,12 @@ void CommonDPDStepBackend::storeForces() {
 void CommonDPDStepBackend::evaluateForces(bool keepForces, bool needPairs) {
     state.storedForcesValid = false; // they belong to other positions now
     latestForcesStored = false;
-    long long evaluationsBefore = sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0;
+    long long evaluationsBefore = sharedEvaluationCount();
     context.calcForcesAndEnergy(true, false, integrationGroups);
     OpenMM::ContextSelector selector(cc);
     if (accumulateStress && sharedForceKernel != nullptr) // the latest evaluation's conservative part is the step's
         stress->takeConservative(sharedForceKernel->getVirialRows());
-    if (friction.allValuesZero)
-        pairsAtCurrentPositions = true; // no O sweep at zero friction, so no pair search either
-    else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore &&
-             sharedForceKernel->getCutoff() >= friction.maxCutoff) { // its cutoff may have changed since
-        grid = &sharedForceKernel->getGrid();
-        pairsAtCurrentPositions = true;
-    }
-    else if (needPairs)
-        findPairs();
-    else
-        pairsAtCurrentPositions = false; // no sweep at these positions (BAOAB): no search
+    choosePairsAfterEvaluation(needPairs, evaluationsBefore);
 }
 
 void CommonDPDStepBackend::findPairs() {
@@ -335,14 +271,13 @@ bool CommonDPDStepBackend::kick(double dt, bool keepForces) {
     kickKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getLongForceBuffer(), storedForces, cc.getAtomIndexArray(), dt,
                    latestForcesStored ? 1 : 0, keepForces ? 1 : 0, step, flags);
     if (keepForces) {
-        state.storedForcesValid = true;
-        cc.getPeriodicBoxVectors(boxOfStoredForces[0], boxOfStoredForces[1], boxOfStoredForces[2]);
+        markForcesStored();
         latestForcesStored = true;
     }
     return true;
 }
 
-void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool response) {
+void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
     if (!pairsAtCurrentPositions)
         throw OpenMM::OpenMMException("DPDIntegrator: internal error: a pair sweep without the pairs of the current positions");
     OpenMM::ContextSelector selector(cc);
@@ -351,6 +286,7 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
     int gatherStress = accumulateStress && request.gatherStress ? 1 : 0;
     OpenMM::ComputeArray& blockStress = stress->blockRows(layout.blocksPerColour);
     // Norton: each block's G . Delta p^D in a row, all colours' rows one after another, summed in order.
+    bool response = request.gatherResponse;
     int withResponse = response ? 1 : 0;
     OpenMM::ComputeArray& responseOfPairs = response ? forcing->sweepRows(layout.blocksPerColour*layout.numColours) : storedForces;
     OpenMM::ComputeArray& responseFieldOrNone = response ? forcing->getResponseField() : storedForces; // unused unless response
@@ -380,11 +316,10 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request, bool 
     profile->write(layout, mode == OrnsteinUhlenbeck ? "O" : "BBK");
 }
 
-double CommonDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& request, bool response) {
-    sweep(OrnsteinUhlenbeck, request, response);
-    if (response) // summed on the device for addDissipationToMultiplier, not read back
+void CommonDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& request) {
+    sweep(OrnsteinUhlenbeck, request);
+    if (request.gatherResponse) // summed on the device for addDissipationToMultiplier, not read back
         forcing->sumSweptResponse();
-    return 0.0;
 }
 
 void CommonDPDStepBackend::sweepBBK(const DPDSweepRequest& request) {
@@ -415,24 +350,6 @@ void CommonDPDStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& 
         stress->addSweepColour(numAtoms);
 }
 
-bool CommonDPDStepBackend::sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& request, double kickDt) {
-    kick(kickDt, false); // no fusion is declared: the same operations one after the other
-    if (kind == DPDStepOperation::BBKSweep)
-        sweepBBK(request);
-    else
-        sweepOrnsteinUhlenbeck(request, false);
-    return kick(kickDt, false);
-}
-
-bool CommonDPDStepBackend::kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) {
-    if (dissipativeAndRandom != nullptr)
-        addDissipativeAndRandomForces(*dissipativeAndRandom);
-    kick(dt, keepForces);
-    for (int k = 1; k < kicks; k++)
-        kick(dt, false);
-    return true;
-}
-
 void CommonDPDStepBackend::moveImages(double elapsed, bool wrap) {
     shear->moveImages(elapsed);
     if (wrap) {
@@ -446,7 +363,7 @@ std::optional<double> CommonDPDStepBackend::evaluateForcingField() {
 }
 
 double CommonDPDStepBackend::responseOfVelocities() const {
-    return forcing->responseOfVelocities(); // reads the device; the backend's state does not change
+    return forcing->responseOfVelocities(); // reads the device (the Norton operations keep it there instead)
 }
 
 void CommonDPDStepBackend::applyForcingImpulse(double xi) {
@@ -477,8 +394,7 @@ void CommonDPDStepBackend::readTransport(DPDIntegrator::TransportStatistics& sta
     forcing->readTransport(statistics);
 }
 
-std::vector<Vec3> CommonDPDStepBackend::getStoredForces(Vec3* box) const {
-    std::copy(boxOfStoredForces, boxOfStoredForces+3, box);
+std::vector<Vec3> CommonDPDStepBackend::storedForceValues() const {
     OpenMM::ContextSelector selector(cc);
     int numAtoms = cc.getNumAtoms();
     std::vector<long long> fixed(3*numAtoms);
@@ -489,36 +405,17 @@ std::vector<Vec3> CommonDPDStepBackend::getStoredForces(Vec3* box) const {
     return forces;
 }
 
-void CommonDPDStepBackend::setStoredForces(std::vector<Vec3> forces, const Vec3* box) {
+void CommonDPDStepBackend::keepStoredForces(std::vector<Vec3> forces) {
     OpenMM::ContextSelector selector(cc);
-    if (!forces.empty()) {
-        int numAtoms = cc.getNumAtoms();
-        std::vector<long long> fixed(3*numAtoms);
-        for (int i = 0; i < numAtoms; i++)
-            for (int k = 0; k < 3; k++)
-                fixed[i+k*numAtoms] = static_cast<long long>(forces[i][k]*fixedPointScale);
-        storedForces.upload(fixed);
-        std::copy(box, box+3, boxOfStoredForces);
-    }
-    pairsAtCurrentPositions = false;
-    latestForcesStored = false;
-    externalStateUnchecked = true;
+    int numAtoms = cc.getNumAtoms();
+    std::vector<long long> fixed(3*numAtoms);
+    for (int i = 0; i < numAtoms; i++)
+        for (int k = 0; k < 3; k++)
+            fixed[i+k*numAtoms] = static_cast<long long>(forces[i][k]*fixedPointScale);
+    storedForces.upload(fixed);
 }
 
 double CommonDPDStepBackend::computeKineticEnergy() {
     OpenMM::ContextSelector selector(cc);
     return cc.getIntegrationUtilities().computeKineticEnergy(0.0);
-}
-
-void CommonDPDStepBackend::stateChanged(OpenMM::State::DataType changed) {
-    if (changed == OpenMM::State::Positions || changed == OpenMM::State::Velocities)
-        externalStateUnchecked = true;
-    // Loading a checkpoint reports every kind of change right after restoring our stored forces,
-    // which belong to the restored state: keep them until the next step.
-    if (state.keepStoredForcesThroughStateChanges)
-        return;
-    if (changed == OpenMM::State::Positions || changed == OpenMM::State::Parameters || changed == OpenMM::State::Energy) {
-        state.storedForcesValid = false;
-        pairsAtCurrentPositions = false;
-    }
 }

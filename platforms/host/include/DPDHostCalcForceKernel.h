@@ -2,6 +2,7 @@
 #define OPENMMDPD_DPDHOSTCALCFORCEKERNEL_H_
 
 #include "DPDPairEngine.h"
+#include "DPDPairListOwner.h"
 #include "openmmdpd/CalcDPDForceKernel.h"
 #include "openmmdpd/DPDTypePairTable.h"
 #include <memory>
@@ -15,7 +16,7 @@ namespace OpenMMDPD {
  * costs more in candidates than it saves in builds) and adds their forces in the same pass.  The
  * engine keeps the pairs of the latest evaluation for a DPDIntegrator sweeping at the same positions.
  */
-class DPDHostCalcForceKernel : public CalcDPDForceKernel {
+class DPDHostCalcForceKernel : public CalcDPDForceKernel, public DPDPairListOwner {
 public:
     DPDHostCalcForceKernel(const std::string& name, const OpenMM::Platform& platform, std::unique_ptr<DPDPairEngine> engine)
         : CalcDPDForceKernel(name, platform), engine(std::move(engine)) {}
@@ -27,8 +28,8 @@ public:
 
     /** The engine holding the pairs closer than the largest cutoff at the positions of the latest evaluation. */
     DPDPairEngine& getPairEngine() const { return *engine; }
-    /** Counts evaluations, so a reader can tell whether the list belongs to the positions it holds. */
-    long long getEvaluationCount() const { return evaluationCount; }
+    long long getEvaluationCount() const override { return evaluationCount; }
+    double getPairListCutoff() const override { return engine->getRadius(); }
 
 private:
     std::unique_ptr<DPDPairEngine> engine;

@@ -35,10 +35,8 @@ DPDHostStepBackend::ContextArrays DPDHostStepBackend::arrays() const {
 
 DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, DPDSchemeState& state,
                                        DPDPairEngineFactory makeEngine)
-    : context(context), state(state), kT(BOLTZ*integrator.getTemperature()), integrationGroups(integrator.getIntegrationForceGroups()) {
+    : DPDStepBackend(context, integrator, state) {
     const OpenMM::System& system = context.getSystem();
-    friction = DPDFrictionTable::compile(system, integrator.getTable());
-    frictionRevision = integrator.getTable().getRevision();
     for (int i = 0; i < system.getNumParticles(); i++)
         if (system.isVirtualSite(i))
             virtualSites.push_back(i);
@@ -50,12 +48,6 @@ DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIn
     }
     uniformInverseMass = std::all_of(inverseMasses.begin(), inverseMasses.end(), [&](double m) { return m == inverseMasses[0]; });
     ownEngine = makeEngine(); // also runs the per-particle loops (kick, drift) on the platform's threads
-    Vec3 box[3];
-    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-    DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, box);
-    largestCutoff = DPDLeesEdwardsFlow::largestCutoff(system, friction.maxCutoff);
-    if (integrator.getShearRate() != 0.0)
-        DPDLeesEdwardsFlow::checkBox(system, box, largestCutoff, integrator.getShearRate());
 
     // A DPD fluid's forces come from DPDForces, a polymer's also from bonds and angles (harmonic or custom): a step
     // evaluates them directly (bonds and angles with DPDBondedTerms), skipping the platform's begin and
@@ -79,6 +71,7 @@ DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIn
         if (kernel != nullptr && forceImpl->getOwner().getTable().compile(system.getNumParticles()).maxCutoff >= friction.maxCutoff) {
             sharedForceKernel = kernel;
             sharedForceImpl = forceImpl;
+            sharedPairs = kernel;
             break;
         }
     }
@@ -89,55 +82,26 @@ DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIn
         integratedDPDForces += dynamic_cast<DPDForceImpl*>(impl) != nullptr;
     if (sharedForceKernel != nullptr && forcesFromDPDForcesAlone && integratedDPDForces == 1)
         forceKeepingEngine = dynamic_cast<DPDForceKeepingPairEngine*>(&sharedForceKernel->getPairEngine());
-    // Neighbouring steps of one step(n) call may share work only where no force acts between them
-    // (updateContextState: a CMMotionRemover, a barostat), i.e. where every force is one the step evaluates.
-    onlyForcesTheStepEvaluates = static_cast<int>(integratedForceImpls.size()) == system.getNumForces();
 }
 
-void DPDHostStepBackend::beginStep(const DPDIntegrator& integrator) {
-    // Every check that can refuse the step, before anything changes or moves (DPDStepBackend::beginStep).
-    ContextArrays current = arrays();
-    bool stateSetFromOutside = externalStateUnchecked;
-    if (externalStateUnchecked) // the drift catches what a step produces; what the user set is checked once, here, so
-        checkExternalState();   // that a NaN position cannot hide from the pair search (which drops NaN pairs)
-    DPDForceImpl::checkEveryDPDForceFitsBox(context, integrationGroups); // the box may have changed since the last step
-    std::optional<DPDTypePairTable::Compiled> updatedFriction = frictionForStep(integrator, frictionRevision, friction);
-    if (integrator.getShearRate() != 0.0) {
-        DPDLeesEdwardsFlow::checkBox(context.getSystem(), current.box, largestCutoff, integrator.getShearRate());
-        if (!leesEdwards.isBoundToContext()) // throws for a molecule the sheared box cannot keep whole
-            leesEdwards.bindToContext(context);
-    }
-    if (integrator.getStressAccumulation()) // throws for a force whose stress is not understood
-        stress.beginSample(context, integrationGroups, sharedForceKernel != nullptr ? &sharedForceKernel->getPairEngine() : nullptr,
-                           sharedForceImpl, sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0);
+void DPDHostStepBackend::getBox(Vec3* box) const {
+    std::copy(arrays().box, arrays().box+3, box);
+}
 
-    externalStateUnchecked = false;
-    kT = BOLTZ*integrator.getTemperature(); // setTemperature may have been called between steps
-    if (updatedFriction.has_value()) // setDefaultFriction ... on a bound integrator take effect here, at the next step
-        applyFrictionTableChanges(std::move(*updatedFriction), integrator.getTable().getRevision());
-    maxDisplacementPerDrift = 0.5*std::min(current.box[0][0], std::min(current.box[1][1], current.box[2][2]));
-    for (int k = 0; k < 3; k++)
-        if (current.box[k] != boxOfStoredForces[k])
-            state.storedForcesValid = false;
-    state.keepStoredForcesThroughStateChanges = false;
-    forcedIntegrator = &integrator;
-    accumulateStress = integrator.getStressAccumulation();
-    stepPairStress = DPDPairStressSums();
-    leesEdwards.setShearRate(integrator.getShearRate());
-    if (leesEdwards.isSheared()) {
-        // Positions set by the user may lie any number of box heights away: the sheared drift moves a
-        // particle with the streaming velocity of where it is, so it starts from its image in the box.
-        if (stateSetFromOutside)
-            leesEdwards.wrapIntoPrimaryCell(current.positions, current.box);
-        leesEdwards.beginStep(current.box);
-    }
+void DPDHostStepBackend::prepareStressSample() {
+    stress.beginSample(context, integrationGroups, sharedForceKernel != nullptr ? &sharedForceKernel->getPairEngine() : nullptr,
+                       sharedForceImpl, sharedEvaluationCount());
+}
+
+void DPDHostStepBackend::wrapIntoPrimaryCell() {
+    ContextArrays current = arrays();
+    leesEdwards.wrapIntoPrimaryCell(current.positions, current.box);
 }
 
 void DPDHostStepBackend::endStep(double stepSize, double stressScale) {
     ContextArrays current = arrays();
     if (accumulateStress)
-        stress.endSample(current.positions, current.velocities, masses, current.box, stepPairStress, stressScale,
-                         sharedForceKernel != nullptr ? sharedForceKernel->getEvaluationCount() : 0);
+        stress.endSample(current.positions, current.velocities, masses, current.box, stepPairStress, stressScale, sharedEvaluationCount());
     current.data.time += stepSize;
     current.data.stepCount++;
 }
@@ -169,18 +133,6 @@ std::vector<Vec3>& DPDHostStepBackend::latestForces() {
         latestForcesStored = false;
     }
     return latestForcesStored ? storedForces : arrays().forces;
-}
-
-bool DPDHostStepBackend::useForcesOfPreviousStep(bool withPairs) {
-    if (!state.storedForcesValid || (withPairs && pairsAtCurrentPositions == nullptr))
-        return false;
-    latestForcesStored = true;
-    return true;
-}
-
-void DPDHostStepBackend::markForcesStored() {
-    state.storedForcesValid = true;
-    std::copy(arrays().box, arrays().box+3, boxOfStoredForces);
 }
 
 void DPDHostStepBackend::storeForces() {
@@ -276,28 +228,12 @@ void DPDHostStepBackend::checkExternalState() const {
     }
 }
 
-DPDTypePairTable::Compiled DPDHostStepBackend::compileFriction(const DPDTypePairTable& table) const {
-    // setDefaultFriction, setDefaultCutoff, setParticleType, addTypePair ... on a bound integrator:
-    // compile() and the box check validate them where they are set (DPDTypePairTable::setChangeCheck)
-    // and again at the next step, so a value is never accepted and then silently left unused.
-    DPDTypePairTable::Compiled compiled = DPDFrictionTable::compile(context.getSystem(), table);
-    checkFrictionCutoffFitsBox(compiled);
-    return compiled;
-}
-
 void DPDHostStepBackend::checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const {
     DPDPeriodicBox::checkCutoff("DPDIntegrator", compiled.maxCutoff, arrays().box);
 }
 
-void DPDHostStepBackend::applyFrictionTableChanges(DPDTypePairTable::Compiled updated, unsigned long long revision) {
-    friction = std::move(updated);
-    frictionRevision = revision;
-    state.storedForcesValid = false;      // VV's stored dissipative force used the old friction
-    pairsAtCurrentPositions = nullptr;    // S1's stored pairs may not reach a larger cutoff
-}
-
 void DPDHostStepBackend::evaluateForces(bool keepForces, bool needPairs) {
-    long long evaluationsBefore = sharedForceKernel ? sharedForceKernel->getEvaluationCount() : 0;
+    long long evaluationsBefore = sharedEvaluationCount();
     keepForces &= fusionSupport().keepForcesForKicks; // only in the direct evaluation (the first goes through the Context)
     state.storedForcesValid = false; // they belong to other positions now
     latestForcesStored = false;
@@ -334,25 +270,22 @@ void DPDHostStepBackend::evaluateForces(bool keepForces, bool needPairs) {
         contextEvaluatedForces = true;
         keepForces = false;
     }
-    if (friction.allValuesZero)
-        pairsAtCurrentPositions = ownEngine.get(); // no O sweep at zero friction, so no pair search either
-    else if (sharedForceKernel != nullptr && sharedForceKernel->getEvaluationCount() != evaluationsBefore &&
-             sharedForceKernel->getPairEngine().getRadius() >= friction.maxCutoff) // its cutoff may have changed since
-        pairsAtCurrentPositions = &sharedForceKernel->getPairEngine();
-    else if (needPairs)
-        findPairs();
-    else
-        pairsAtCurrentPositions = nullptr; // no sweep at these positions (BAOAB): no search
+    choosePairsAfterEvaluation(needPairs, evaluationsBefore);
     forcesKept = keepForces;
-    if (keepForces && pairsAtCurrentPositions != forceKeepingEngine)
+    if (keepForces && !sweepsUseKeptForces())
         latestForces(); // the O sweep is another engine's: the forces go to the Context
+}
+
+void DPDHostStepBackend::usePairsOfSharedForce() {
+    sweepEngine = &sharedForceKernel->getPairEngine();
 }
 
 void DPDHostStepBackend::findPairs() {
     ContextArrays current = arrays();
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, current.box);
     ownEngine->findPairs(current.positions, current.box, friction.maxCutoff, nullptr, nullptr);
-    pairsAtCurrentPositions = ownEngine.get();
+    sweepEngine = ownEngine.get();
+    pairsAtCurrentPositions = true;
 }
 
 bool DPDHostStepBackend::kick(double dt, bool keepForces) {
@@ -363,50 +296,37 @@ bool DPDHostStepBackend::kick(double dt, bool keepForces) {
     return finite;
 }
 
-double DPDHostStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep, bool response) {
-    return pairsAtCurrentPositions->applyPairwiseOrnsteinUhlenbeck(pairSweep(sweep), arrays().velocities,
-                                                                   response ? &forcing.getResponseField() : nullptr);
+void DPDHostStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep) {
+    double response = sweepEngine->applyPairwiseOrnsteinUhlenbeck(pairSweep(sweep), arrays().velocities,
+                                                                  sweep.gatherResponse ? &forcing.getResponseField() : nullptr);
+    if (sweep.gatherResponse)
+        responseOfDissipation = response;
 }
 
 void DPDHostStepBackend::sweepBBK(const DPDSweepRequest& sweep) {
-    pairsAtCurrentPositions->applyPairwiseBBK(pairSweep(sweep), arrays().velocities);
+    sweepEngine->applyPairwiseBBK(pairSweep(sweep), arrays().velocities);
 }
 
 void DPDHostStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& sweep) {
-    pairsAtCurrentPositions->addDissipativeAndRandomForces(pairSweep(sweep), arrays().velocities, latestForces());
+    sweepEngine->addDissipativeAndRandomForces(pairSweep(sweep), arrays().velocities, latestForces());
 }
 
 bool DPDHostStepBackend::sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& sweep, double kickDt) {
-    bool bbk = kind == DPDStepOperation::BBKSweep;
-    if (forcesKept && pairsAtCurrentPositions == forceKeepingEngine)
-        return forceKeepingEngine->sweepBetweenKeptForceKicks(bbk, pairSweep(sweep), kickDt, arrays().velocities);
-    bool finite = kick(kickDt, false); // the same operations one after the other
-    if (bbk)
-        sweepBBK(sweep);
-    else
-        sweepOrnsteinUhlenbeck(sweep, false);
-    return kick(kickDt, false) && finite;
+    if (!sweepsUseKeptForces())
+        return DPDStepBackend::sweepBetweenKicks(kind, sweep, kickDt);
+    return forceKeepingEngine->sweepBetweenKeptForceKicks(kind == DPDStepOperation::BBKSweep, pairSweep(sweep), kickDt, arrays().velocities);
 }
 
 bool DPDHostStepBackend::kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) {
+    if (!sweepsUseKeptForces())
+        return DPDStepBackend::kickWithKeptForces(dt, kicks, keepForces, dissipativeAndRandom);
     DPDPairSweep sweep = pairSweep(dissipativeAndRandom != nullptr ? *dissipativeAndRandom : DPDSweepRequest{dt, 0, false});
-    std::vector<Vec3>& velocities = arrays().velocities;
-    bool finite;
-    if (forcesKept && pairsAtCurrentPositions == forceKeepingEngine) {
-        DPDKeptForceKick closingKick{dt, inverseMasses, uniformInverseMass, kicks, keepForces ? &storedForces : nullptr};
-        finite = forceKeepingEngine->kickWithKeptForces(closingKick, dissipativeAndRandom != nullptr ? &sweep : nullptr, velocities);
-        forcesKept = false; // given to the kick (and, if kept, to the stored copy)
-        latestForcesStored = keepForces;
-        if (keepForces)
-            markForcesStored();
-    }
-    else { // the same operations one after the other
-        if (dissipativeAndRandom != nullptr)
-            addDissipativeAndRandomForces(*dissipativeAndRandom);
-        finite = kick(dt, keepForces);
-        for (int k = 1; k < kicks; k++)
-            kick(dt, false);
-    }
+    DPDKeptForceKick closingKick{dt, inverseMasses, uniformInverseMass, kicks, keepForces ? &storedForces : nullptr};
+    bool finite = forceKeepingEngine->kickWithKeptForces(closingKick, dissipativeAndRandom != nullptr ? &sweep : nullptr, arrays().velocities);
+    forcesKept = false; // given to the kick (and, if kept, to the stored copy)
+    latestForcesStored = keepForces;
+    if (keepForces)
+        markForcesStored();
     return finite;
 }
 
@@ -419,7 +339,8 @@ void DPDHostStepBackend::moveImages(double elapsed, bool wrap) {
 
 std::optional<double> DPDHostStepBackend::evaluateForcingField() {
     ContextArrays current = arrays();
-    return forcing.evaluate(*forcedIntegrator->getForcingProfile(), current.positions, current.box, masses);
+    forcingDotResponse = forcing.evaluate(*forcedIntegrator->getForcingProfile(), current.positions, current.box, masses);
+    return forcingDotResponse; // the scheme layer checks Norton's controllability
 }
 
 double DPDHostStepBackend::responseOfVelocities() const {
@@ -430,22 +351,6 @@ void DPDHostStepBackend::applyForcingImpulse(double xi) {
     forcing.applyImpulse(xi, arrays().velocities, inverseMasses);
 }
 
-std::vector<Vec3> DPDHostStepBackend::getStoredForces(Vec3* box) const {
-    std::copy(boxOfStoredForces, boxOfStoredForces+3, box);
-    return storedForces;
-}
-
-void DPDHostStepBackend::setStoredForces(std::vector<Vec3> forces, const Vec3* box) {
-    if (!forces.empty()) {
-        storedForces = std::move(forces);
-        std::copy(box, box+3, boxOfStoredForces);
-    }
-    pairsAtCurrentPositions = nullptr;
-    forcesKept = false;
-    latestForcesStored = false;
-    externalStateUnchecked = true;
-}
-
 double DPDHostStepBackend::computeKineticEnergy() const {
     ContextArrays current = arrays();
     double energy = 0.0;
@@ -453,18 +358,4 @@ double DPDHostStepBackend::computeKineticEnergy() const {
         if (inverseMasses[i] != 0.0)
             energy += 0.5*current.velocities[i].dot(current.velocities[i])/inverseMasses[i];
     return energy;
-}
-
-void DPDHostStepBackend::stateChanged(OpenMM::State::DataType changed) {
-    if (changed == OpenMM::State::Positions || changed == OpenMM::State::Velocities)
-        externalStateUnchecked = true;
-    // Loading a checkpoint reports every kind of change right after restoring our stored forces,
-    // which belong to the restored state: keep them until the next step.
-    if (state.keepStoredForcesThroughStateChanges)
-        return;
-    directBondedStale |= changed == OpenMM::State::Parameters || changed == OpenMM::State::Energy;
-    if (changed == OpenMM::State::Positions || changed == OpenMM::State::Parameters || changed == OpenMM::State::Energy) {
-        state.storedForcesValid = false;
-        pairsAtCurrentPositions = nullptr;
-    }
 }

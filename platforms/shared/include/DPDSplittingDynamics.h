@@ -18,9 +18,10 @@ namespace OpenMMDPD {
  * The DPD splitting schemes of Shang 2021 (and Wu & Shang's NEMD and Norton dynamics) for every
  * platform: each step runs its scheme's program (DPDStepProgram) on the platform's backend
  * (DPDStepBackend), operation by operation or fused where the backend declares it can
- * (DPDStepFusion), and keeps what carries from step to step in DPDSchemeState.  The Norton
- * multipliers, NEMD's impulses and the transport sums are computed here, from the backend's G . p.
- * Nothing here knows a platform.
+ * (DPDStepFusion), and keeps what carries from step to step in DPDSchemeState.  Nothing here
+ * knows a platform or names a scheme: what an operation needs is in its fields (DPDStepOperation).
+ * The backend computes NEMD's and Norton's scalars where its velocities are, with the formulas of
+ * DPDNortonFormulas.h; the transport sums are handed over and back once a call.
  */
 class DPDSplittingDynamics {
 public:
@@ -52,8 +53,6 @@ public:
      * at that step by a backend that reports it at the end of the call (the GPU platforms).
      */
     std::string uncontrollableMessage(double forcingDotResponse, long long step = 0) const;
-    DPDStepBackend& getBackend() { return *backend; }
-    const DPDStepBackend& getBackend() const { return *backend; }
 
 private:
     /** The program of these settings (cached: rebuilt only when they change). */
@@ -62,7 +61,7 @@ private:
     void execute(const DPDStepOperation& operation, const DPDFusedOperation& fused, int stepOffset);
     void executeFused(const std::vector<DPDStepOperation>& program, const DPDFusedOperation& fused);
     DPDSweepRequest sweepRequest(const DPDStepOperation& sweep) {
-        return {sweep.fraction*stepSize, state.nextSweepKey(), sweep.flag, sweep.reversed};
+        return {sweep.fraction*stepSize, state.nextSweepKey(), sweep.gatherStress, sweep.reversed, sweep.gatherResponse};
     }
     /** Norton: F.G must not vanish (controllability, Wu & Shang after eq. 13). */
     double requireControllable(double forcingDotResponse) const;
@@ -76,13 +75,9 @@ private:
     std::vector<DPDStepOperation> program;
     bool programBuilt = false;
 
-    // NEMD and Norton, for the current step only.
-    const DPDIntegrator* forcedIntegrator = nullptr;
-    double forcingDotResponse = 0.0;  // F . G at the latest forcing-field evaluation
-    double multiplierSum = 0.0;       // Norton: the step's sum of the counted multipliers xi
-    double responseOfDissipation = 0.0; // Norton: G . Delta p^D of the step's O sweep
-    // The backend holds the transport sums (keepsTransportScalars), as the host's state.transport had
-    // them when they were handed over; state.transport is brought up to date after every call.
+    const DPDIntegrator* forcedIntegrator = nullptr; // NEMD and Norton, for the current step only
+    // The backend holds the transport sums (DPDStepBackend::writeTransport), as state.transport had them
+    // when they were handed over; state.transport is brought up to date after every call.
     bool backendHasTransport = false;
 };
 

@@ -16,7 +16,7 @@ struct DPDStepOperation {
         Drift,
         /** B(f h): v += f h F/m with the forces of the latest evaluation (eq. 2.5b). */
         Kick,
-        /** The Context's forces at the current positions, and (flag) the pairs closer than the dissipative cutoff for a sweep there. */
+        /** The Context's forces at the current positions, and (withPairs) the pairs closer than the dissipative cutoff for a sweep there. */
         EvaluateForces,
         /** The pairs closer than the dissipative cutoff at the current positions, without forces (BAOAB's O at the half-drift positions). */
         FindPairs,
@@ -46,20 +46,33 @@ struct DPDStepOperation {
     double fraction = 0.0;
     /** Where the papers define it ("2.19" is Shang 2021 eq. 2.19; "WS 52" is Wu & Shang eq. 52). */
     const char* equation = "";
+    /** Kick: keep a copy of the forces for the next step's ForcesAtStart (S1, VV, BAOAB). */
+    bool keepForNextStep = false;
     /**
-     * Kick: keep a copy of the forces for the next step's start (S1 and VV).  NortonProjection: its
-     * multiplier counts in lambda.  Sweeps: add the pair stress sums to the step's sample.
-     * EvaluateForces: a sweep uses the pairs at these positions.  ForcesAtStart: also the pairs (S1).
+     * EvaluateForces: find the dissipative pairs at these positions for a sweep there.  ForcesAtStart:
+     * the previous step's pairs are needed too (S1's sweep comes first), and found with the forces when
+     * those are evaluated afresh.
      */
-    bool flag = false;
+    bool withPairs = false;
+    /**
+     * ForcesAtStart: the stored forces hold F^D + F^R of the previous step's end too (VV, eq. 2.3), so
+     * an evaluation afresh adds them at (q^n, p^n), and a checkpoint keeps the stored forces (they
+     * depend on the velocities and random numbers, not only on the positions).
+     */
+    bool withDissipativeAndRandomForces = false;
+    /** Sweeps, DissipativeAndRandomForces: add the pair stress sums to the step's sample (when stress is accumulated). */
+    bool gatherStress = false;
+    /** OrnsteinUhlenbeckSweep: also G . Delta p^D of its dissipative increments, for NortonDissipation (Wu & Shang eq. 63). */
+    bool gatherResponse = false;
+    /** NortonProjection: its multiplier counts in the step's lambda (eq. 70). */
+    bool counted = false;
     /** Sweeps: over the pairs in the reverse of the platform's sweep order (BAOOAB's second O). */
     bool reversed = false;
 
-    static DPDStepOperation of(Kind kind, double fraction, const char* equation, bool flag = false) {
+    static DPDStepOperation of(Kind kind, double fraction, const char* equation) {
         DPDStepOperation operation{kind};
         operation.fraction = fraction;
         operation.equation = equation;
-        operation.flag = flag;
         return operation;
     }
     bool isSweep() const { return kind == OrnsteinUhlenbeckSweep || kind == BBKSweep; }

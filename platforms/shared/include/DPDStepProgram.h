@@ -40,6 +40,13 @@ public:
     static std::vector<DPDStepOperation> of(const Options& options);
     /** Throw an OpenMMException for a combination no scheme defines (NEMD or Norton with VV, S1 or shear). */
     static void check(const Options& options);
+    /**
+     * The factor of the pair stress sums at the step's end: 1 where VV's F^D + F^R gathers them (forces),
+     * 1/h where a sweep does (momentum changes over the step).
+     */
+    static double pairStressScale(const std::vector<DPDStepOperation>& program, double stepSize);
+    /** The forces stored for the next step hold F^D + F^R (VV): they cannot be found again from the positions, so a checkpoint keeps them. */
+    static bool storedForcesDependOnVelocities(const std::vector<DPDStepOperation>& program);
     /** One line per operation ("A(0.5 h) eq. 2.19"), for the documentation and the tests. */
     static std::string describe(const std::vector<DPDStepOperation>& program);
 };

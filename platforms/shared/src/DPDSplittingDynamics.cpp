@@ -1,5 +1,4 @@
 #include "DPDSplittingDynamics.h"
-#include "DPDNortonFormulas.h"
 #include "openmm/OpenMMException.h"
 #include <cmath>
 #include <sstream>
@@ -28,7 +27,7 @@ const std::vector<DPDStepOperation>& DPDSplittingDynamics::programFor(const DPDS
 void DPDSplittingDynamics::step(const DPDIntegrator& integrator, bool moreStepsFollow) {
     if (integrator.getStepSize() != stepSize) {
         stepSize = integrator.getStepSize();
-        state.storedForcesValid = false; // VV's stored random force carries 1/sqrt(dt)
+        state.storedForcesValid = false; // a stored random force F^R carries 1/sqrt(dt)
     }
     DPDStepProgram::Options options;
     options.scheme = scheme;
@@ -36,32 +35,31 @@ void DPDSplittingDynamics::step(const DPDIntegrator& integrator, bool moreStepsF
     options.sheared = integrator.getShearRate() != 0.0;
     DPDStepProgram::check(options); // before the step touches anything
     backend->beginStep(integrator);
-    const bool transportOnBackend = options.forcing != DPDIntegrator::NoForcing && backend->keepsTransportScalars();
-    if (transportOnBackend && !backendHasTransport) { // the host's sums changed (a reset, a checkpoint) or never went there
+    const bool transportOnBackend = options.forcing != DPDIntegrator::NoForcing;
+    if (transportOnBackend && !backendHasTransport) { // the sums changed here (a reset, a checkpoint) or never went there
         backend->writeTransport(state.transport);
         backendHasTransport = true;
     }
     try {
         options.frictionless = backend->isFrictionless();
         forcedIntegrator = &integrator;
-        multiplierSum = 0.0;
         runProgram(programFor(options), moreStepsFollow);
     }
     catch (...) { // no half-done kick outlives the call, nor a half-taken stress sample
         state.operationsDoneByPreviousStep = 0;
         state.storedForcesValid = false;
-        if (transportOnBackend) { // the sums of the steps done, as a host backend would have them
+        if (transportOnBackend) { // the sums of the steps done; the next forced step hands them over again (its multipliers from 0)
+            backendHasTransport = false;
             try {
                 backend->readTransport(state.transport);
             }
             catch (...) { // a device that cannot be read: the sums stay those of the last call, the step's error goes on
-                backendHasTransport = false;
             }
         }
         backend->abandonStep();
         throw;
     }
-    backend->endStep(stepSize, scheme == DPDIntegrator::VV ? 1.0 : 1.0/stepSize); // VV's sweep sums forces, the O sweeps momentum changes
+    backend->endStep(stepSize, DPDStepProgram::pairStressScale(program, stepSize));
     if (transportOnBackend && !moreStepsFollow) // once a call: nothing comes back per step
         backend->readTransport(state.transport);
 }
@@ -86,10 +84,10 @@ void DPDSplittingDynamics::execute(const DPDStepOperation& operation, const DPDF
     double dt = operation.fraction*stepSize;
     switch (operation.kind) {
     case Op::ForcesAtStart:
-        if (!backend->useForcesOfPreviousStep(operation.flag)) {
-            backend->evaluateForces(false, operation.flag || scheme == DPDIntegrator::VV); // VV's F^D + F^R need the pairs
+        if (!backend->useForcesOfPreviousStep(operation.withPairs)) {
+            backend->evaluateForces(false, operation.withPairs || operation.withDissipativeAndRandomForces); // F^D + F^R need the pairs
             backend->storeForces();
-            if (scheme == DPDIntegrator::VV && !programOptions.frictionless)
+            if (operation.withDissipativeAndRandomForces)
                 backend->addDissipativeAndRandomForces({stepSize, state.nextSweepKey(), false}); // eq. 2.3's F^D + F^R at (q^n, p^n)
         }
         return;
@@ -98,17 +96,17 @@ void DPDSplittingDynamics::execute(const DPDStepOperation& operation, const DPDF
             throwNonFinite("positions", particle, stepOffset);
         return;
     case Op::Kick:
-        if (!backend->kick(dt, operation.flag))
+        if (!backend->kick(dt, operation.keepForNextStep))
             throwNonFinite("velocities", -1, stepOffset);
         return;
     case Op::EvaluateForces:
-        backend->evaluateForces(fused.keepForces, operation.flag);
+        backend->evaluateForces(fused.keepForces, operation.withPairs);
         return;
     case Op::FindPairs:
         backend->findPairs();
         return;
     case Op::OrnsteinUhlenbeckSweep:
-        responseOfDissipation = backend->sweepOrnsteinUhlenbeck(sweepRequest(operation), programOptions.forcing == DPDIntegrator::Norton);
+        backend->sweepOrnsteinUhlenbeck(sweepRequest(operation));
         return;
     case Op::BBKSweep:
         backend->sweepBBK(sweepRequest(operation));
@@ -124,52 +122,25 @@ void DPDSplittingDynamics::execute(const DPDStepOperation& operation, const DPDF
         return;
     case Op::EvaluateForcingField: {
         std::optional<double> evaluated = backend->evaluateForcingField();
-        if (!evaluated.has_value()) { // F . G stays on the device, which checks it (DPDStepBackend::evaluateForcingField)
-            if (!backendHasTransport)
-                throw OpenMM::OpenMMException("DPDIntegrator: internal error: the backend kept F . G, but not Norton's scalars");
-            return;
-        }
-        forcingDotResponse = *evaluated;
-        if (programOptions.forcing == DPDIntegrator::Norton)
-            requireControllable(forcingDotResponse);
+        // A backend that returns no F . G checks Norton's controllability on its device (DPDStepBackend::evaluateForcingField).
+        if (evaluated.has_value() && programOptions.forcing == DPDIntegrator::Norton)
+            requireControllable(*evaluated);
         return;
     }
     case Op::ForcingImpulse:
         backend->applyForcingImpulse(dt*forcedIntegrator->getForcingStrength()); // + eta F dt (NEMD's B, Wu & Shang eq. 17)
         return;
-    case Op::NortonProjection: {
-        // xi sets G . p to r after its sub-step (Wu & Shang eqs. 42, 45, 50); lambda sums the counted ones.
-        if (backendHasTransport) {
-            backend->projectOntoTarget(forcedIntegrator->getForcingStrength(), operation.flag);
-            return;
-        }
-        double xi = dpdNortonProjection(forcedIntegrator->getForcingStrength(), backend->responseOfVelocities(), forcingDotResponse);
-        backend->applyForcingImpulse(xi);
-        if (operation.flag)
-            multiplierSum += xi;
+    case Op::NortonProjection: // xi sets G . p to r after its sub-step (Wu & Shang eqs. 42, 45, 50); lambda sums the counted ones
+        backend->projectOntoTarget(forcedIntegrator->getForcingStrength(), operation.counted);
         return;
-    }
     case Op::NortonDissipation:
-        if (backendHasTransport)
-            backend->addDissipationToMultiplier();
-        else
-            multiplierSum += dpdNortonDissipation(responseOfDissipation, forcingDotResponse);
+        backend->addDissipationToMultiplier();
         return;
     case Op::NortonRecord:
-        if (backendHasTransport)
-            backend->recordForcing(stepSize);
-        else {
-            state.transport.lastForcing = dpdNortonForcing(multiplierSum, stepSize);
-            state.transport.forcingSum += state.transport.lastForcing;
-        }
+        backend->recordForcing(stepSize);
         [[fallthrough]];
     case Op::SampleResponse:
-        if (backendHasTransport)
-            backend->sampleResponse(); // R at (q^{n+1}, p^{n+1}), for eq. 9
-        else {
-            state.transport.lastResponse = backend->responseOfVelocities();
-            state.transport.responseSum += state.transport.lastResponse;
-        }
+        backend->sampleResponse(); // R at (q^{n+1}, p^{n+1}), for eq. 9
         state.transport.steps++;
         return;
     }
@@ -241,11 +212,12 @@ std::string DPDSplittingDynamics::nonFiniteMessage(const char* what, int particl
 }
 
 void DPDSplittingDynamics::createCheckpoint(std::ostream& stream) const {
-    // Only VV's stored force depends on more than the positions (the velocities and random numbers
-    // of the previous step's end); S1 recomputes its stored force from the positions, bit for bit.
+    // Only stored forces that hold F^D + F^R depend on more than the positions (the velocities and
+    // random numbers of the previous step's end); the others are found again from the positions, bit
+    // for bit.  Before any step, valid stored forces are those of a checkpoint that kept them.
     OpenMM::Vec3 box[3];
     std::vector<OpenMM::Vec3> stored;
-    if (scheme == DPDIntegrator::VV && state.storedForcesValid)
+    if (state.storedForcesValid && (!programBuilt || DPDStepProgram::storedForcesDependOnVelocities(program)))
         stored = backend->getStoredForces(box);
     state.writeCheckpoint(stream, backend->stressStatistics(), stored, box);
 }

@@ -22,11 +22,11 @@ int DPDStepFusion::sweepBetweenKicks(const std::vector<Op>& program, int positio
     // the next step's ForcesAtStart is this step's evaluation: nothing to do.
     if (position == size-1 && at(program, k, support) != nullptr && at(program, k, support)->kind == Op::ForcesAtStart)
         k++;
-    else if (first->flag)
+    else if (first->keepForNextStep)
         return 0; // a kick that keeps its forces for the next step cannot give them up within the step
     const Op* sweep = at(program, k, support);
     const Op* second = at(program, k+1, support);
-    if (sweep == nullptr || !sweep->isSweep() || sweep->reversed || second == nullptr || second->kind != Op::Kick || second->flag ||
+    if (sweep == nullptr || !sweep->isSweep() || sweep->reversed || second == nullptr || second->kind != Op::Kick || second->keepForNextStep ||
         second->fraction != first->fraction)
         return 0;
     return k+2-position;
@@ -72,10 +72,10 @@ DPDFusedOperation DPDStepFusion::next(const std::vector<Op>& program, int positi
             fused.kind = DPDFusedOperation::KeptForceKick;
             fused.count = span;
             fused.kicks = kicks;
-            fused.keepForces = kicks == 1 && operation.flag;
+            fused.keepForces = kicks == 1 && operation.keepForNextStep;
             return fused;
         }
-        if (support.kickBeforeDrift && !support.forcesKept && !operation.flag && at(program, position+1, support) != nullptr &&
+        if (support.kickBeforeDrift && !support.forcesKept && !operation.keepForNextStep && at(program, position+1, support) != nullptr &&
             at(program, position+1, support)->kind == Op::Drift && position+1 < static_cast<int>(program.size())) {
             fused.kind = DPDFusedOperation::KickThenDrift;
             fused.count = 2;
@@ -91,7 +91,7 @@ DPDFusedOperation DPDStepFusion::next(const std::vector<Op>& program, int positi
             fused.kind = DPDFusedOperation::KeptForceKick;
             fused.count = span;
             fused.kicks = kicks;
-            fused.keepForces = kicks == 1 && program[position+1].flag;
+            fused.keepForces = kicks == 1 && program[position+1].keepForNextStep;
         }
         return fused;
     case Op::Drift: {

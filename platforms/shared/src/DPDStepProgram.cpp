@@ -1,5 +1,6 @@
 #include "DPDStepProgram.h"
 #include "openmm/OpenMMException.h"
+#include <algorithm>
 #include <sstream>
 
 using namespace OpenMMDPD;
@@ -7,31 +8,39 @@ using namespace OpenMMDPD;
 namespace {
 using Op = DPDStepOperation;
 
-Op op(Op::Kind kind, double fraction, const char* equation, bool flag = false) { return Op::of(kind, fraction, equation, flag); }
+Op op(Op::Kind kind, double fraction, const char* equation) { return Op::of(kind, fraction, equation); }
+
+/** `operation` with one of its named fields set (DPDStepOperation::keepForNextStep ...). */
+Op with(Op operation, bool Op::*field, bool value = true) {
+    operation.*field = value;
+    return operation;
+}
 
 void velocityVerlet(std::vector<Op>& program, const DPDStepProgram::Options& options) {
-    program.push_back(op(Op::ForcesAtStart, 0.0, "2.3 (the previous step's F^C + F^D + F^R)", false));
+    program.push_back(with(op(Op::ForcesAtStart, 0.0, "2.3 (the previous step's F^C + F^D + F^R)"), &Op::withDissipativeAndRandomForces,
+                           !options.frictionless));
     program.push_back(op(Op::Kick, 0.5, "2.3a"));
     program.push_back(op(Op::Drift, 1.0, "2.3b"));
     if (options.sheared)
         program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h)"));
-    program.push_back(op(Op::EvaluateForces, 0.0, "2.2a (at q^{n+1})", !options.frictionless));
+    program.push_back(with(op(Op::EvaluateForces, 0.0, "2.2a (at q^{n+1})"), &Op::withPairs, !options.frictionless));
     if (!options.frictionless)
-        program.push_back(op(Op::DissipativeAndRandomForces, 1.0, "2.2b, 2.2c (at q^{n+1}, p^{n+1/2})", true));
-    program.push_back(op(Op::Kick, 0.5, "2.3c", true)); // kept for the next step's eq. 2.3a
+        program.push_back(with(op(Op::DissipativeAndRandomForces, 1.0, "2.2b, 2.2c (at q^{n+1}, p^{n+1/2})"), &Op::gatherStress));
+    program.push_back(with(op(Op::Kick, 0.5, "2.3c"), &Op::keepForNextStep)); // for the next step's eq. 2.3a
 }
 
 /** DPD-S1, with Shardlow's BBK sweep or (exactOU, "S1-OU") ABOBA's exact OU sweep (sec. 4, after Figure 4). */
 void shardlowS1(std::vector<Op>& program, const DPDStepProgram::Options& options, bool exactOU) {
-    program.push_back(op(Op::ForcesAtStart, 0.0, "2.13 (the previous step's F^C and pairs)", true));
+    program.push_back(with(op(Op::ForcesAtStart, 0.0, "2.13 (the previous step's F^C and pairs)"), &Op::withPairs));
     if (!options.frictionless)
-        program.push_back(exactOU ? op(Op::OrnsteinUhlenbeckSweep, 1.0, "2.14-2.17 in place of 2.12", true) : op(Op::BBKSweep, 1.0, "2.12", true));
+        program.push_back(exactOU ? with(op(Op::OrnsteinUhlenbeckSweep, 1.0, "2.14-2.17 in place of 2.12"), &Op::gatherStress)
+                                  : with(op(Op::BBKSweep, 1.0, "2.12"), &Op::gatherStress));
     program.push_back(op(Op::Kick, 0.5, "2.13a"));
     program.push_back(op(Op::Drift, 1.0, "2.13b"));
     if (options.sheared)
         program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h)"));
-    program.push_back(op(Op::EvaluateForces, 0.0, "2.13c (at q^{n+1}, reused next step)", !options.frictionless));
-    program.push_back(op(Op::Kick, 0.5, "2.13c", true)); // kept for the next step's eq. 2.13a
+    program.push_back(with(op(Op::EvaluateForces, 0.0, "2.13c (at q^{n+1}, reused next step)"), &Op::withPairs, !options.frictionless));
+    program.push_back(with(op(Op::Kick, 0.5, "2.13c"), &Op::keepForNextStep)); // for the next step's eq. 2.13a
 }
 
 void aboba(std::vector<Op>& program, const DPDStepProgram::Options& options) {
@@ -39,14 +48,14 @@ void aboba(std::vector<Op>& program, const DPDStepProgram::Options& options) {
     program.push_back(op(Op::Drift, 0.5, "2.19"));
     if (options.sheared)
         program.push_back(op(Op::MoveImages, 0.5, "3.2 (offset at t + h/2)"));
-    program.push_back(op(Op::EvaluateForces, 0.0, "2.20 (the one evaluation, at q^{n+1/2})", !options.frictionless));
+    program.push_back(with(op(Op::EvaluateForces, 0.0, "2.20 (the one evaluation, at q^{n+1/2})"), &Op::withPairs, !options.frictionless));
     if (nemd)
         program.push_back(op(Op::EvaluateForcingField, 0.0, "WS 6 (F at q^{n+1/2})"));
     program.push_back(op(Op::Kick, 0.5, "2.20"));
     if (nemd)
         program.push_back(op(Op::ForcingImpulse, 0.5, "WS 17"));
     if (!options.frictionless)
-        program.push_back(op(Op::OrnsteinUhlenbeckSweep, 1.0, "2.21, 2.22", true));
+        program.push_back(with(op(Op::OrnsteinUhlenbeckSweep, 1.0, "2.21, 2.22"), &Op::gatherStress));
     program.push_back(op(Op::Kick, 0.5, "2.23"));
     if (nemd)
         program.push_back(op(Op::ForcingImpulse, 0.5, "WS 17"));
@@ -65,7 +74,7 @@ void aboba(std::vector<Op>& program, const DPDStepProgram::Options& options) {
  * finds; symmetric (BAOOAB): O(h/2) twice, the second over the pairs in the reverse order.
  */
 void baoab(std::vector<Op>& program, const DPDStepProgram::Options& options, bool symmetric) {
-    program.push_back(op(Op::ForcesAtStart, 0.0, "BAOAB (the previous step's F)", false));
+    program.push_back(op(Op::ForcesAtStart, 0.0, "BAOAB (the previous step's F)"));
     program.push_back(op(Op::Kick, 0.5, "BAOAB B(h/2)"));
     program.push_back(op(Op::Drift, 0.5, "BAOAB A(h/2)"));
     if (options.sheared)
@@ -73,39 +82,41 @@ void baoab(std::vector<Op>& program, const DPDStepProgram::Options& options, boo
     if (!options.frictionless) {
         program.push_back(op(Op::FindPairs, 0.0, "BAOAB (pairs at q^{n+1/2})"));
         if (symmetric) {
-            program.push_back(op(Op::OrnsteinUhlenbeckSweep, 0.5, "BAOOAB O(h/2), 2.14-2.17", true));
-            Op reversed = op(Op::OrnsteinUhlenbeckSweep, 0.5, "BAOOAB O(h/2), the pairs in reverse order", true);
+            program.push_back(with(op(Op::OrnsteinUhlenbeckSweep, 0.5, "BAOOAB O(h/2), 2.14-2.17"), &Op::gatherStress));
+            Op reversed = with(op(Op::OrnsteinUhlenbeckSweep, 0.5, "BAOOAB O(h/2), the pairs in reverse order"), &Op::gatherStress);
             reversed.reversed = true;
             program.push_back(reversed);
         }
         else
-            program.push_back(op(Op::OrnsteinUhlenbeckSweep, 1.0, "BAOAB O(h), 2.14-2.17", true));
+            program.push_back(with(op(Op::OrnsteinUhlenbeckSweep, 1.0, "BAOAB O(h), 2.14-2.17"), &Op::gatherStress));
     }
     program.push_back(op(Op::Drift, 0.5, "BAOAB A(h/2)"));
     if (options.sheared)
         program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h, wrap)"));
-    program.push_back(op(Op::EvaluateForces, 0.0, "BAOAB (at q^{n+1}, reused next step)", false));
-    program.push_back(op(Op::Kick, 0.5, "BAOAB B(h/2)", true)); // kept for the next step's first B(h/2)
+    program.push_back(op(Op::EvaluateForces, 0.0, "BAOAB (at q^{n+1}, reused next step)"));
+    program.push_back(with(op(Op::Kick, 0.5, "BAOAB B(h/2)"), &Op::keepForNextStep)); // for the next step's first B(h/2)
 }
 
 /** Wu & Shang's ABOBA-Norton: each projection sets G.p = r after its sub-step; lambda sums the multipliers. */
 void abobaNorton(std::vector<Op>& program, const DPDStepProgram::Options& options) {
     program.push_back(op(Op::Drift, 0.5, "WS 52"));
     program.push_back(op(Op::EvaluateForcingField, 0.0, "WS 53 (F.G at q^{n+1/2})"));
-    program.push_back(op(Op::NortonProjection, 0.0, "WS 53, 54", true));
-    program.push_back(op(Op::EvaluateForces, 0.0, "WS 55 (at q^{n+1/2})", !options.frictionless));
+    program.push_back(with(op(Op::NortonProjection, 0.0, "WS 53, 54"), &Op::counted));
+    program.push_back(with(op(Op::EvaluateForces, 0.0, "WS 55 (at q^{n+1/2})"), &Op::withPairs, !options.frictionless));
     program.push_back(op(Op::Kick, 0.5, "WS 55"));
-    program.push_back(op(Op::NortonProjection, 0.0, "WS 56, 57", true));
+    program.push_back(with(op(Op::NortonProjection, 0.0, "WS 56, 57"), &Op::counted));
     if (!options.frictionless) {
-        program.push_back(op(Op::OrnsteinUhlenbeckSweep, 1.0, "WS 58-61", true));
-        program.push_back(op(Op::NortonProjection, 0.0, "WS 62", false));
+        Op sweep = with(op(Op::OrnsteinUhlenbeckSweep, 1.0, "WS 58-61"), &Op::gatherStress);
+        sweep.gatherResponse = true; // G . Delta p^D for eq. 63
+        program.push_back(sweep);
+        program.push_back(op(Op::NortonProjection, 0.0, "WS 62"));
         program.push_back(op(Op::NortonDissipation, 0.0, "WS 63"));
     }
     program.push_back(op(Op::Kick, 0.5, "WS 64"));
-    program.push_back(op(Op::NortonProjection, 0.0, "WS 65, 66", true));
+    program.push_back(with(op(Op::NortonProjection, 0.0, "WS 65, 66"), &Op::counted));
     program.push_back(op(Op::Drift, 0.5, "WS 67"));
     program.push_back(op(Op::EvaluateForcingField, 0.0, "WS 68 (F.G at q^{n+1})"));
-    program.push_back(op(Op::NortonProjection, 0.0, "WS 68, 69", true));
+    program.push_back(with(op(Op::NortonProjection, 0.0, "WS 68, 69"), &Op::counted));
     program.push_back(op(Op::NortonRecord, 0.0, "WS 70"));
 }
 
@@ -152,6 +163,19 @@ std::vector<DPDStepOperation> DPDStepProgram::of(const Options& options) {
     else
         aboba(program, options);
     return program;
+}
+
+double DPDStepProgram::pairStressScale(const std::vector<DPDStepOperation>& program, double stepSize) {
+    // VV's F^D + F^R sums forces; a sweep's sums are momentum changes over its length, so per unit time.
+    for (const Op& operation : program)
+        if (operation.gatherStress && operation.kind == Op::DissipativeAndRandomForces)
+            return 1.0;
+    return 1.0/stepSize;
+}
+
+bool DPDStepProgram::storedForcesDependOnVelocities(const std::vector<DPDStepOperation>& program) {
+    return std::any_of(program.begin(), program.end(),
+                       [](const Op& operation) { return operation.kind == Op::ForcesAtStart && operation.withDissipativeAndRandomForces; });
 }
 
 std::string DPDStepProgram::describe(const std::vector<DPDStepOperation>& program) {
