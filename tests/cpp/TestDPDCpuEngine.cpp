@@ -132,18 +132,18 @@ TEST(CpuPairEngine, BlocksOfOneColourShareNoCell) {
             visits[cell]++;
         EXPECT_EQ(std::count(visits.begin(), visits.end(), 1), grid.getNumCells());
         if (n[0] == 40) {
-            EXPECT_EQ(grid.getNumColors(), 4*8); // four slabs
+            EXPECT_EQ(grid.getNumColours(), 4*8); // four slabs
         }
-        for (int color = 0; color < grid.getNumColors(); color++) {
-            EXPECT_LT(grid.colorBlockStart[color], grid.colorBlockStart[color+1]) << "colour " << color << " is empty";
+        for (int colour = 0; colour < grid.getNumColours(); colour++) {
+            EXPECT_LT(grid.colourBlockStart[colour], grid.colourBlockStart[colour+1]) << "colour " << colour << " is empty";
             std::vector<int> toucher(grid.getNumCells(), -1);
-            for (int block = grid.colorBlockStart[color]; block < grid.colorBlockStart[color+1]; block++)
+            for (int block = grid.colourBlockStart[colour]; block < grid.colourBlockStart[colour+1]; block++)
                 for (int k = grid.blockStart[block]; k < grid.blockStart[block+1]; k++) {
                     CpuDPDCellGrid::Neighbor stencil[CpuDPDCellGrid::halfStencilSize];
                     grid.getHalfStencil(grid.cellsInSweepOrder[k], stencil);
                     for (const CpuDPDCellGrid::Neighbor& neighbor : stencil) {
                         EXPECT_TRUE(toucher[neighbor.cell] == -1 || toucher[neighbor.cell] == block)
-                            << "colour " << color << ": cell " << neighbor.cell << " in reach of blocks " << toucher[neighbor.cell] << " and " << block;
+                            << "colour " << colour << ": cell " << neighbor.cell << " in reach of blocks " << toucher[neighbor.cell] << " and " << block;
                         toucher[neighbor.cell] = block;
                     }
                 }
@@ -320,7 +320,7 @@ TEST(CpuPairEngine, SmallBoxesAreBitIdenticalForOneTwoAndSixteenThreads) {
     start.fluid.system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
     CpuDPDCellGrid grid;
     grid.prepare(500, box, 1.0);
-    ASSERT_EQ(grid.getNumBlocks(), grid.getNumColors());
+    ASSERT_EQ(grid.getNumBlocks(), grid.getNumColours());
     expectEverySchemeBitIdenticalForOneTwoAndSixteenThreads(start, 20);
     Snapshot sheared[2], norton[2];
     double stress[2], forcing[2];
@@ -365,8 +365,8 @@ TEST(CpuPairEngine, OwnPairsAndNortonAreBitIdenticalAcrossThreadCounts) {
 TEST(CpuPairEngine, FusedKicksAreTheSeparateKicksBitForBit) {
     // With one DPDForce, the engine keeps its conservative forces and the schemes kick in its passes:
     // ABOBA's B(h/2) O B(h/2) is one sweep that kicks in its gather and scatter
-    // (DPDForceKeepingPairEngine::sweepBetweenKeptForceKicks), VV's and S1's closing kick is the forces' one way
-    // to System order (DPDForceKeepingPairEngine::kickWithKeptForces, VV's F^D + F^R swept on the way).  A second DPDForce of zero
+    // (HostDPDForceKeepingPairEngine::sweepBetweenKeptForceKicks), VV's and S1's closing kick is the forces' one way
+    // to System order (HostDPDForceKeepingPairEngine::kickWithKeptForces, VV's F^D + F^R swept on the way).  A second DPDForce of zero
     // strength changes no force but makes the step take the separate kicks, the forces going through the
     // Context: the same bits.  In a small box (one block per colour, the search in two parts) and a
     // larger one, on 1 and 2 threads, with masses that differ between particles, and with the friction

@@ -142,7 +142,7 @@ TEST_P(DirectBondedForces, TwoThreadsGiveTheBitsOfOne) {
 TEST_P(DirectBondedForces, FusedKicksWithBondsAreTheSeparateKicksBitForBit) {
     // With one DPDForce and bonds and angles the step evaluates, the CPU engine keeps the conservative
     // forces, the bonded terms are added to the kept forces, and the schemes kick in the engine's passes
-    // (DPDForceKeepingPairEngine); within one step(n) call neighbouring steps share work too.  A second
+    // (HostDPDForceKeepingPairEngine); within one step(n) call neighbouring steps share work too.  A second
     // DPDForce of zero strength changes no force but makes the step take the separate kicks (forces in
     // System order); fifteen step(1) calls share no work between steps: the same bits, for every scheme,
     // on 1 and 2 threads, in a small box (one block per colour) and a larger one.

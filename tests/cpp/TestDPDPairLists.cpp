@@ -8,7 +8,7 @@
 //    only where no two pairs share a particle (isolated dimers), and otherwise in their statistics.
 
 #include "DPDTestSupport.h"
-#include "DPDHostCalcForceKernel.h"
+#include "HostDPDCalcForceKernel.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/internal/ContextImpl.h"
 #include "openmmdpd/internal/DPDForceImpl.h"
@@ -213,10 +213,10 @@ protected:
 };
 
 /** The DPDForce kernel of a Context on the Reference or CPU platform. */
-const DPDHostCalcForceKernel& dpdForceKernel(Context& context) {
+const HostDPDCalcForceKernel& dpdForceKernel(Context& context) {
     for (ForceImpl* impl : ContextImplAccess().of(context).getForceImpls())
         if (auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl))
-            return dynamic_cast<const DPDHostCalcForceKernel&>(forceImpl->getKernel().getImpl());
+            return dynamic_cast<const HostDPDCalcForceKernel&>(forceImpl->getKernel().getImpl());
     throw OpenMMException("no DPDForce in the Context");
 }
 
@@ -233,7 +233,7 @@ TEST(PairLists, OneForceEvaluationPerStep) {
             DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.05, scheme);
             integrator.setRandomNumberSeed(3);
             auto context = makeContext(fluid, integrator, platformName);
-            const DPDHostCalcForceKernel& kernel = dpdForceKernel(*context);
+            const HostDPDCalcForceKernel& kernel = dpdForceKernel(*context);
             long long start = kernel.getEvaluationCount();
             integrator.step(100);
             long long firstStepExtra = scheme == "ABOBA" ? 0 : 1;

@@ -11,7 +11,7 @@ namespace OpenMMDPD {
 /**
  * The integrator's stress sums on the GPU platforms (dpdStress.cc): one sample per step of the
  * Irving-Kirkwood stress (Shang 2021 eq. 3.3) in the parts of DPDIntegrator::StressStatistics, as the
- * host platforms take it (DPDStressAccumulator): the kinetic part at the step's end, the conservative
+ * host platforms take it (HostDPDStressAccumulator): the kinetic part at the step's end, the conservative
  * part from the DPDForce's force pass at the step's evaluation, plus the other forces' (DPDConservativeVirial,
  * summed on the host from positions read back at the step's end: only where such forces are integrated), the
  * dissipative and random parts from the sweeps' pair updates.  The sums stay on the device; the statistics

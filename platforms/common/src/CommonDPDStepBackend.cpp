@@ -261,7 +261,7 @@ int CommonDPDStepBackend::drift(double dt, int times, double kickDt, bool* veloc
                         kickDt, kickFrom, dt, times, maxDisplacement2, step, flags, shear->flow().getShearRate());
     cc.getIntegrationUtilities().computeVirtualSites(); // as OpenMM's integrators do after every position update
     pairsAtCurrentPositions = friction.allValuesZero;
-    return -1; // recorded on the device, reported once per step() call (takeFirstUnsoundStep)
+    return -1; // recorded on the device, reported once per step() call (takeFailedSteps)
 }
 
 bool CommonDPDStepBackend::kick(double dt, bool keepForces) {

@@ -82,7 +82,7 @@ public:
                 visit(list.particles[k], list.slots[k]);
     }
     /** Thread t's share of the blocks of a colour, [begin, end): from the first that begins at or after t/T of the colour's cells. */
-    void blocksOfColorShare(int color, int thread, int numThreads, int& begin, int& end) const;
+    void blocksOfColourShare(int colour, int thread, int numThreads, int& begin, int& end) const;
     /** The sorted particles [begin, end) of thread t's block of cells (after placeCellBlock). */
     void sortedRangeOfThread(int thread, int& begin, int& end) const;
     void gatherSortedPositions(int begin, int end);
@@ -92,7 +92,7 @@ public:
     /** The box of the last prepare(). */
     const OpenMM::Vec3* getBoxVectors() const { return boxVectors; }
     int getNumCells() const { return cellsPerAxis[0]*cellsPerAxis[1]*cellsPerAxis[2]; }
-    int getNumColors() const { return static_cast<int>(colorStart.size())-1; }
+    int getNumColours() const { return static_cast<int>(colourStart.size())-1; }
     int getNumBlocks() const { return static_cast<int>(blockStart.size())-1; }
     /** The half stencil of a cell: first the cell itself (shift 0), then 13 neighbours. */
     void getHalfStencil(int cell, Neighbor stencil[halfStencilSize]) const;
@@ -106,10 +106,10 @@ public:
     double imageShiftX[27], imageShiftY[27], imageShiftZ[27];
     /**
      * The cells in sweep order: slab by slab, colour by colour, block by block, by index within a block.
-     * Colour k is cells [colorStart[k], colorStart[k+1]) of that order and blocks
-     * [colorBlockStart[k], colorBlockStart[k+1]); block b is cells [blockStart[b], blockStart[b+1]).
+     * Colour k is cells [colourStart[k], colourStart[k+1]) of that order and blocks
+     * [colourBlockStart[k], colourBlockStart[k+1]); block b is cells [blockStart[b], blockStart[b+1]).
      */
-    std::vector<int> cellsInSweepOrder, colorStart, colorBlockStart, blockStart;
+    std::vector<int> cellsInSweepOrder, colourStart, colourBlockStart, blockStart;
 
 private:
     void layOut(const OpenMM::Vec3* box, double radius);

@@ -2,7 +2,7 @@
 #define OPENMMDPD_CPUDPDCELLSTRESS_H_
 
 #include "CpuDPDPairUpdateBlock.h"
-#include "DPDPairEngine.h"
+#include "HostDPDPairEngine.h"
 #include <algorithm>
 #include <vector>
 

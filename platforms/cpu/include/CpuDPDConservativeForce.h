@@ -1,7 +1,7 @@
 #ifndef OPENMMDPD_CPUDPDCONSERVATIVEFORCE_H_
 #define OPENMMDPD_CPUDPDCONSERVATIVEFORCE_H_
 
-#include "DPDPairEngine.h"
+#include "HostDPDPairEngine.h"
 #include "openmm/Vec3.h"
 #include <cstddef>
 

@@ -34,9 +34,9 @@ public:
     void forEachRange(int count, int minPerThread, const std::function<void(int, int)>& body) { team->forEachRange(count, minPerThread, body); }
     void wait() { barrier.wait(); }
     /** Give a thread its share of a colour's blocks in the queue: about 1/getNumThreads() of the colour's cells. */
-    void shareBlocksOfColor(const CpuDPDCellGrid& grid, int color, int thread) {
+    void shareBlocksOfColour(const CpuDPDCellGrid& grid, int colour, int thread) {
         int begin, end;
-        grid.blocksOfColorShare(color, thread, active, begin, end);
+        grid.blocksOfColourShare(colour, thread, active, begin, end);
         queue.share(thread, begin, end);
     }
     CpuDPDBlockQueue& blockQueue() { return queue; }

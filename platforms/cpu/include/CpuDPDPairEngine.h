@@ -9,7 +9,7 @@
 #include "CpuDPDSweepPipeline.h"
 #include "CpuDPDPairUpdateBlock.h"
 #include "CpuDPDSuccessiveSweep.h"
-#include "DPDForceKeepingPairEngine.h"
+#include "HostDPDForceKeepingPairEngine.h"
 #include <functional>
 #include <memory>
 #include <vector>
@@ -37,7 +37,7 @@ namespace OpenMMDPD {
  * small against the search), and a stencil neighbour wrapped in y is seen through a shift that includes
  * b, hence the sliding offset; the pair's minimum-image y separation r e_y then carries its image.
  */
-class CpuDPDPairEngine : public DPDForceKeepingPairEngine {
+class CpuDPDPairEngine : public HostDPDForceKeepingPairEngine {
 public:
     /** An engine working on numThreads threads (the CPU platform's Threads property). */
     explicit CpuDPDPairEngine(int numThreads);
@@ -77,17 +77,17 @@ private:
     using RunTask = std::function<void(int thread, const PairRun* runs)>;
     /**
      * The successive sweep shared by O, BBK and VV, in one task on the threads: each thread gathers
-     * its share of the particles into sorted order, sweeps (sweepBlocksByColor, or sweepSmallGrid with
+     * its share of the particles into sorted order, sweeps (sweepBlocksByColour, or sweepSmallGrid with
      * thread 0 gathering and scattering every particle), then scatters the particles it located back
      * to System order.
      */
-    void sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
+    void sweepByColour(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                       const RunTask& apply, const ScatterTask& scatter);
     /**
      * A thread's part of the colour-by-colour sweep: per colour, runs of its blocks get their
      * coefficients and apply(runs) sweeps them, numStreams runs side by side.
      */
-    void sweepBlocksByColor(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
+    void sweepBlocksByColour(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
                             const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply);
     /** A reversed sweep (DPDPairSweep::reversed, BAOOAB's second O) on one thread: the cells of sweep order backwards, each cell's pairs backwards. */
     void sweepInReverseOrder(CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep, const CpuDPDPairUpdateBlock::Particles& particles,

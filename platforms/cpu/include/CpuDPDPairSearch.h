@@ -32,7 +32,7 @@ public:
     /**
      * Find every pair closer than `radius`; with `repulsion`, also add the soft conservative forces to
      * `forces` (or keep them sorted) and return their energy, and with `stressSink` add their stress
-     * tensor there (DPDPairEngine::setConservativeStressSink).
+     * tensor there (HostDPDPairEngine::setConservativeStressSink).
      */
     double find(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, double radius,
                 const DPDTypePairTable::Compiled* repulsion, std::vector<OpenMM::Vec3>* forces, double* stressSink);

@@ -1,7 +1,7 @@
 #ifndef OPENMMDPD_CPUDPDPAIRUPDATEBLOCK_H_
 #define OPENMMDPD_CPUDPDPAIRUPDATEBLOCK_H_
 
-#include "DPDPairEngine.h"
+#include "HostDPDPairEngine.h"
 #include <cstddef>
 #include <vector>
 

@@ -75,36 +75,36 @@ void CpuDPDCellGrid::layOut(const Vec3* box, double radius) {
     // (slabs never run at the same time, so their colours need not differ): a colour's data then
     // stays within a slab (10^6 particles: 8 % faster with one thread, 5 % with two; no change at 256 000).
     const int cellsPerSlab = 16384;
-    int blocks[3], blockColors[3];
+    int blocks[3], blockColours[3];
     for (int k = 0; k < 3; k++) {
         blocks[k] = axisBlocks(cellsPerAxis[k]);
-        blockColors[k] = std::min(2, blocks[k]);
+        blockColours[k] = std::min(2, blocks[k]);
     }
     cellsInSweepOrder.clear();
     cellsInSweepOrder.reserve(numCells);
-    colorStart.assign(1, 0);
+    colourStart.assign(1, 0);
     blockStart.clear();
-    colorBlockStart.assign(1, 0);
+    colourBlockStart.assign(1, 0);
     int cellsPerBlockLayer = cellsPerAxis[0]*cellsPerAxis[1]*std::max(1, cellsPerAxis[2]/blocks[2]);
     int slabBlockLayers = std::max(1, (cellsPerSlab+cellsPerBlockLayer-1)/cellsPerBlockLayer);
     for (int slabBegin = 0; slabBegin < blocks[2]; slabBegin += slabBlockLayers) {
         int slabEnd = std::min(blocks[2], slabBegin+slabBlockLayers);
-        for (int zColor = 0; zColor < blockColors[2]; zColor++)
-            for (int yColor = 0; yColor < blockColors[1]; yColor++)
-                for (int xColor = 0; xColor < blockColors[0]; xColor++) {
-                    int firstBz = slabBegin+(slabBegin%blockColors[2] == zColor ? 0 : 1); // the slab's first block layer of this z colour
-                    for (int bz = firstBz; bz < slabEnd; bz += blockColors[2])
-                        for (int by = yColor; by < blocks[1]; by += blockColors[1])
-                            for (int bx = xColor; bx < blocks[0]; bx += blockColors[0]) {
+        for (int zColour = 0; zColour < blockColours[2]; zColour++)
+            for (int yColour = 0; yColour < blockColours[1]; yColour++)
+                for (int xColour = 0; xColour < blockColours[0]; xColour++) {
+                    int firstBz = slabBegin+(slabBegin%blockColours[2] == zColour ? 0 : 1); // the slab's first block layer of this z colour
+                    for (int bz = firstBz; bz < slabEnd; bz += blockColours[2])
+                        for (int by = yColour; by < blocks[1]; by += blockColours[1])
+                            for (int bx = xColour; bx < blocks[0]; bx += blockColours[0]) {
                                 blockStart.push_back(static_cast<int>(cellsInSweepOrder.size()));
                                 for (int z = axisBlockStart(bz, cellsPerAxis[2]); z < axisBlockStart(bz+1, cellsPerAxis[2]); z++)
                                     for (int y = axisBlockStart(by, cellsPerAxis[1]); y < axisBlockStart(by+1, cellsPerAxis[1]); y++)
                                         for (int x = axisBlockStart(bx, cellsPerAxis[0]); x < axisBlockStart(bx+1, cellsPerAxis[0]); x++)
                                             cellsInSweepOrder.push_back((z*cellsPerAxis[1]+y)*cellsPerAxis[0]+x);
                             }
-                    if (static_cast<int>(cellsInSweepOrder.size()) > colorStart.back()) { // no empty colour: no idle barrier
-                        colorStart.push_back(static_cast<int>(cellsInSweepOrder.size()));
-                        colorBlockStart.push_back(static_cast<int>(blockStart.size()));
+                    if (static_cast<int>(cellsInSweepOrder.size()) > colourStart.back()) { // no empty colour: no idle barrier
+                        colourStart.push_back(static_cast<int>(cellsInSweepOrder.size()));
+                        colourBlockStart.push_back(static_cast<int>(blockStart.size()));
                     }
                 }
     }
@@ -295,9 +295,9 @@ void CpuDPDCellGrid::placeCellBlock(int thread) {
     }
 }
 
-void CpuDPDCellGrid::blocksOfColorShare(int color, int thread, int numThreads, int& begin, int& end) const {
-    int firstCell = colorStart[color], numCells = colorStart[color+1]-firstCell;
-    auto blocksBegin = blockStart.begin()+colorBlockStart[color], blocksEnd = blockStart.begin()+colorBlockStart[color+1];
+void CpuDPDCellGrid::blocksOfColourShare(int colour, int thread, int numThreads, int& begin, int& end) const {
+    int firstCell = colourStart[colour], numCells = colourStart[colour+1]-firstCell;
+    auto blocksBegin = blockStart.begin()+colourBlockStart[colour], blocksEnd = blockStart.begin()+colourBlockStart[colour+1];
     auto boundary = [&](int t) {
         auto block = std::lower_bound(blocksBegin, blocksEnd, firstCell+shareBegin(numCells, t, numThreads));
         return static_cast<int>(block-blockStart.begin());

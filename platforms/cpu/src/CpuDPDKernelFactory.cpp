@@ -1,7 +1,7 @@
 #include "CpuDPDKernelFactory.h"
 #include "CpuDPDPairEngine.h"
-#include "DPDHostCalcForceKernel.h"
-#include "DPDHostIntegrateStepKernel.h"
+#include "HostDPDCalcForceKernel.h"
+#include "HostDPDIntegrateStepKernel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/cpu/CpuPlatform.h"
 #include "openmm/internal/windowsExport.h"
@@ -38,10 +38,10 @@ OpenMM::KernelImpl* CpuDPDKernelFactory::createKernelImpl(std::string name, cons
                 << " (4 times this machine's " << hardwareThreads << " hardware threads, at least 64)";
         throw OpenMM::OpenMMException(message.str());
     }
-    DPDPairEngineFactory makeEngine = [numThreads] { return std::make_unique<CpuDPDPairEngine>(numThreads); };
+    HostDPDPairEngineFactory makeEngine = [numThreads] { return std::make_unique<CpuDPDPairEngine>(numThreads); };
     if (name == CalcDPDForceKernel::Name())
-        return new DPDHostCalcForceKernel(name, platform, makeEngine());
+        return new HostDPDCalcForceKernel(name, platform, makeEngine());
     if (name == IntegrateDPDStepKernel::Name())
-        return new DPDHostIntegrateStepKernel(name, platform, makeEngine);
+        return new HostDPDIntegrateStepKernel(name, platform, makeEngine);
     throw OpenMM::OpenMMException("CpuDPDKernelFactory: no kernel named '"+name+"'");
 }

@@ -45,7 +45,7 @@ void CpuDPDPairEngine::sweepSmallGrid(int thread, CpuDPDPairUpdateBlock::Kind ki
     sweepPipeline.run(thread, threads.getNumThreads(), computeCoefficients, sweepPiece);
 }
 
-void CpuDPDPairEngine::sweepBlocksByColor(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
+void CpuDPDPairEngine::sweepBlocksByColour(int thread, CpuDPDPairUpdateBlock::Kind kind, const DPDPairSweep& sweep,
                                           const CpuDPDPairUpdateBlock::Particles& particles, const RunTask& apply) {
     // Each thread takes blocks of a colour (its own share first, then what is left of the others',
     // CpuDPDBlockQueue) in runs of consecutive blocks whose pairs are consecutive in one search
@@ -100,8 +100,8 @@ void CpuDPDPairEngine::sweepBlocksByColor(int thread, CpuDPDPairUpdateBlock::Kin
         block.compute(kind, sweep, particles, run.pairEnd-run.pairBegin, &pairs.i[run.pairBegin], &pairs.j[run.pairBegin]);
         return run;
     };
-    for (int color = 0; color < grid.getNumColors(); color++) {
-        threads.shareBlocksOfColor(grid, color, thread);
+    for (int colour = 0; colour < grid.getNumColours(); colour++) {
+        threads.shareBlocksOfColour(grid, colour, thread);
         while (true) {
             PairRun runs[numStreams];
             bool any = false;
@@ -138,7 +138,7 @@ void CpuDPDPairEngine::sweepInReverseOrder(CpuDPDPairUpdateBlock::Kind kind, con
     }
 }
 
-void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
+void CpuDPDPairEngine::sweepByColour(const DPDPairSweep& sweep, CpuDPDPairUpdateBlock::Kind kind, const ParticleRangeTask& gather,
                                     const RunTask& apply, const ScatterTask& scatter) {
     int numParticles = static_cast<int>(grid.sortedToOriginal.size());
     sortedFrictionType.resize(numParticles);
@@ -190,7 +190,7 @@ void CpuDPDPairEngine::sweepByColor(const DPDPairSweep& sweep, CpuDPDPairUpdateB
             return;
         }
         threads.wait();
-        sweepBlocksByColor(thread, kind, sweep, particles, apply);
+        sweepBlocksByColour(thread, kind, sweep, particles, apply);
         scatter(thread);
     });
 }
@@ -212,7 +212,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
         if (kickDt != 0.0)
             for (int s = begin; s < end; s++) {
                 sortedVelocities[s] = velocities[original[s]];
-                DPDPairEngine::kickVelocity(sortedVelocities[s], sortedForces[s], kickDtOverMass(original[s])); // checked after the second kick
+                HostDPDPairEngine::kickVelocity(sortedVelocities[s], sortedForces[s], kickDtOverMass(original[s])); // checked after the second kick
             }
         else
             for (int s = begin; s < end; s++)
@@ -235,13 +235,14 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             int a = pairs.i[k], b = pairs.j[k], n = k-blockStart;
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
             double u = e.dot(velocity[a]-velocity[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
-            double deltaP = block.slope[n]*u + block.offset[n]; // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
+            DPDPairUpdate update = dpdPairUpdate(block.slope[n], block.offset[n]); // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12)
+            double deltaP = dpdMomentumChange(update, u);
             velocity[a] += e*(deltaP*(uniform ? uniformInverseMass : inverseMass[a]));
             velocity[b] -= e*(deltaP*(uniform ? uniformInverseMass : inverseMass[b]));
             if (sweep.stress != nullptr)
-                sums.addPair(block.r[n], e, block.slope[n]*u, block.offset[n]);
+                sums.addPair(block.r[n], e, dpdDissipativePart(update, u), update.offset);
             if (response != nullptr) // Norton: G . (Delta p_i^D, Delta p_j^D) of eqs. 60-61
-                responseOfDissipation += block.slope[n]*u*e.dot(sortedResponse[a]-sortedResponse[b]);
+                responseOfDissipation += dpdDissipativePart(update, u)*e.dot(sortedResponse[a]-sortedResponse[b]);
         }
         cellStress.store(sweep, cell, sums);
         cellResponse[cell] = responseOfDissipation;
@@ -292,7 +293,7 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
             // The second kick first, on the thread's own sorted range (in its cache): the scatter of the
             // particles it located then reads no forces that another thread swept.
             for (int s = threads.particleRangeBegin(thread, numParticles); s < threads.particleRangeBegin(thread+1, numParticles); s++)
-                allFinite &= DPDPairEngine::kickVelocity(sortedVelocities[s], sortedForces[s], kickDtOverMass(original[s]));
+                allFinite &= HostDPDPairEngine::kickVelocity(sortedVelocities[s], sortedForces[s], kickDtOverMass(original[s]));
             finite[thread] &= allFinite;
             threads.wait();
             grid.forEachLocatedParticle(thread, [&](int i, int s) { velocities[i] = sortedVelocities[s]; });
@@ -300,12 +301,12 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
         }
         search.getWriteBack().forEach(thread, [&](int i, int s) {
             Vec3 v = sortedVelocities[s];
-            allFinite &= DPDPairEngine::kickVelocity(v, sortedForces[s], kickDtOverMass(i));
+            allFinite &= HostDPDPairEngine::kickVelocity(v, sortedForces[s], kickDtOverMass(i));
             velocities[i] = v;
         });
         finite[thread] &= allFinite;
     };
-    sweepByColor(sweep, kind, gather, apply, scatter);
+    sweepByColour(sweep, kind, gather, apply, scatter);
     if (velocitiesFinite != nullptr)
         for (char each : finite)
             *velocitiesFinite &= each != 0;
@@ -360,11 +361,12 @@ void CpuDPDPairEngine::sweepDissipativeAndRandomForces(const DPDPairSweep& sweep
             }
             Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
             double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
-            Vec3 force = e*(block.slope[n]*u + block.offset[n]); // eqs. 2.2b, 2.2c
+            DPDPairUpdate update = dpdPairUpdate(block.slope[n], block.offset[n]); // F^D + F^R along e (eqs. 2.2b, 2.2c)
+            Vec3 force = e*dpdMomentumChange(update, u);
             result[a] += force;
             result[b] -= force;
             if (sweep.stress != nullptr)
-                sums.addPair(block.r[n], e, block.slope[n]*u, block.offset[n]);
+                sums.addPair(block.r[n], e, dpdDissipativePart(update, u), update.offset);
         }
         cellStress.store(sweep, cell, sums);
     };
@@ -373,7 +375,7 @@ void CpuDPDPairEngine::sweepDissipativeAndRandomForces(const DPDPairSweep& sweep
             for (int k = runs[run].cellBegin; k < runs[run].cellEnd; k++)
                 applyToCell(buffers[runs[run].buffer], grid.cellsInSweepOrder[k], *runs[run].block, runs[run].pairBegin);
     };
-    sweepByColor(sweep, CpuDPDPairUpdateBlock::DissipativeAndRandomForce, gather, apply, scatter);
+    sweepByColour(sweep, CpuDPDPairUpdateBlock::DissipativeAndRandomForce, gather, apply, scatter);
     cellStress.addToSweep(sweep, grid.cellsInSweepOrder);
 }
 
@@ -408,9 +410,9 @@ bool CpuDPDPairEngine::kickWithKeptForces(const DPDKeptForceKick& kick, const DP
                 stored[i] = force;
             double dtOverMass = kick.dt*kick.inverseMasses[kick.uniformInverseMass ? 0 : i]; // one mass: no read at random
             Vec3 velocity = decltype(afterSweep)::value ? sortedVelocities[s] : velocities[i];
-            allFinite &= DPDPairEngine::kickVelocity(velocity, force, dtOverMass);
+            allFinite &= HostDPDPairEngine::kickVelocity(velocity, force, dtOverMass);
             for (int k = 1; k < kick.kicks; k++) // its finiteness is the next drift's to check, as when that drift kicks
-                DPDPairEngine::kickVelocity(velocity, force, dtOverMass);
+                HostDPDPairEngine::kickVelocity(velocity, force, dtOverMass);
             velocities[i] = velocity;
         });
         finite[thread] = allFinite;

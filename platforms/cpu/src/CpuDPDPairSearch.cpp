@@ -98,13 +98,13 @@ double CpuDPDPairSearch::find(const std::vector<Vec3>& positions, const Vec3* bo
     // another computes the coefficients ahead of it (CpuDPDSweepPipeline).  Two threads at most, and
     // the same bits for any thread count: the parts depend on the grid alone.  Two threads pay off from
     // about 200 particles (ABOBA, a step: 150 particles 0.037 ms on one, 0.045 on two; 200: 0.046, 0.043).
-    const int minCellsPerThreadAndColor = 8, minParticlesForTwoThreads = 200;
-    smallGrid = grid.getNumBlocks() == grid.getNumColors();
+    const int minCellsPerThreadAndColour = 8, minParticlesForTwoThreads = 200;
+    smallGrid = grid.getNumBlocks() == grid.getNumColours();
     int maxThreads = threads.getMaxThreads(), numThreads;
     if (smallGrid)
         numThreads = numParticles >= minParticlesForTwoThreads ? std::min(2, maxThreads) : 1;
     else
-        numThreads = numCells >= minCellsPerThreadAndColor*maxThreads*grid.getNumColors() ? maxThreads : 1;
+        numThreads = numCells >= minCellsPerThreadAndColour*maxThreads*grid.getNumColours() ? maxThreads : 1;
     threads.setNumThreads(numThreads);
     writeBack.choose(numThreads, smallGrid, numParticles);
     cellPairBegin.resize(numCells);
@@ -163,8 +163,8 @@ double CpuDPDPairSearch::find(const std::vector<Vec3>& positions, const Vec3* bo
                     (*forces)[grid.sortedToOriginal[s]] += sortedForces[s]+secondPartForces[s];
             return;
         }
-        for (int color = 0; color < grid.getNumColors(); color++) {
-            threads.shareBlocksOfColor(grid, color, thread);
+        for (int colour = 0; colour < grid.getNumColours(); colour++) {
+            threads.shareBlocksOfColour(grid, colour, thread);
             for (int block; (block = threads.blockQueue().take(thread)) >= 0;)
                 for (int k = grid.blockStart[block]; k < grid.blockStart[block+1]; k++) {
                     int cell = grid.cellsInSweepOrder[k];
@@ -199,13 +199,13 @@ void CpuDPDPairSearch::searchSmallGridParts(int thread, CpuDPDPairBuffer& buffer
                                             double* stressSink) {
     // Part 0 is the colours before the colour boundary nearest to half the cells, part 1 the rest.  A
     // thread searches whole parts in sweep order, so a part's pairs are consecutive in one buffer.
-    int numColors = grid.getNumColors(), numCells = grid.getNumCells(), boundary = 0;
-    for (int color = 1; color <= numColors; color++)
-        if (std::abs(2*grid.colorStart[color]-numCells) < std::abs(2*grid.colorStart[boundary]-numCells))
-            boundary = color;
+    int numColours = grid.getNumColours(), numCells = grid.getNumCells(), boundary = 0;
+    for (int colour = 1; colour <= numColours; colour++)
+        if (std::abs(2*grid.colourStart[colour]-numCells) < std::abs(2*grid.colourStart[boundary]-numCells))
+            boundary = colour;
     for (int part = thread; part < 2; part += threads.getNumThreads()) {
         Vec3* partForces = part == 0 ? sortedForces.data() : secondPartForces.data();
-        for (int k = part == 0 ? 0 : grid.colorStart[boundary]; k < (part == 0 ? grid.colorStart[boundary] : numCells); k++) {
+        for (int k = part == 0 ? 0 : grid.colourStart[boundary]; k < (part == 0 ? grid.colourStart[boundary] : numCells); k++) {
             int cell = grid.cellsInSweepOrder[k];
             cellBuffer[cell] = thread;
             cellPairBegin[cell] = static_cast<int>(buffer.size);

@@ -67,7 +67,7 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
             int typePair = uniform ? 0 : frictionType[i]*numTypes+frictionType[j];
             double cutoff = cutoffTable[typePair];
             invReducedMass[n] = uniform ? uniformInverseMass+uniformInverseMass : inverseMass[i]+inverseMass[j];
-            acts[n] = static_cast<double>(r[n] < cutoff)*static_cast<double>(gammaTable[typePair] != 0.0)*static_cast<double>(invReducedMass[n] > 0.0);
+            acts[n] = static_cast<double>(dpdPairActs(r[n], cutoff, gammaTable[typePair], invReducedMass[n]));
             // Pairs that do not act get harmless parameters and a zero update.
             gamma[n] = acts[n] != 0.0 ? gammaTable[typePair] : 1.0;
             w[n] = acts[n] != 0.0 ? 1.0-r[n]/cutoff : 0.5;

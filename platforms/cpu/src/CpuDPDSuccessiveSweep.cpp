@@ -1,4 +1,5 @@
 #include "CpuDPDSuccessiveSweep.h"
+#include "DPDPairFormulas.h"
 #include "openmmdpd/internal/DPDVectorInstructions.h"
 #include <cmath>
 #include <initializer_list>
@@ -49,7 +50,8 @@ struct Stream {
         double u = muladd<fused>(ex, va[0], muladd<fused>(ey, va[1], muladd<fused>(ez, va[2], -eDotVb)));
         if constexpr (recordRelativeVelocity)
             run.relativeVelocity[n] = u;
-        double deltaP = muladd<fused>(run.slope[n], u, run.offset[n]); // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
+        DPDPairUpdate update = dpdPairUpdate(run.slope[n], run.offset[n]); // exact OU (eqs. 2.14-2.17) or BBK (eq. 2.12), affine in u
+        double deltaP = fused ? dpdMomentumChangeFused(update, u) : dpdMomentumChange(update, u);
         double inverseMassA = uniform ? uniformInverseMass : inverseMass[a], inverseMassB = uniform ? uniformInverseMass : inverseMass[b];
         va[0] = muladd<fused>(ex*inverseMassA, deltaP, va[0]);
         va[1] = muladd<fused>(ey*inverseMassA, deltaP, va[1]);

@@ -1,7 +1,7 @@
 #ifndef OPENMMDPD_REFERENCEDPDPAIRENGINE_H_
 #define OPENMMDPD_REFERENCEDPDPAIRENGINE_H_
 
-#include "DPDPairEngine.h"
+#include "HostDPDPairEngine.h"
 #include "DPDPairList.h"
 #include <vector>
 
@@ -13,7 +13,7 @@ namespace OpenMMDPD {
  * pairs are kept in the canonical order (i, j) ascending, so the O sweep's order depends only on the
  * positions.  Each sweep is one loop over that list.
  */
-class ReferenceDPDPairEngine : public DPDPairEngine {
+class ReferenceDPDPairEngine : public HostDPDPairEngine {
 public:
     double findPairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, double radius,
                      const DPDTypePairTable::Compiled* repulsion, std::vector<OpenMM::Vec3>* forces) override;

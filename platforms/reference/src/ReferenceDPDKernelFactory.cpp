@@ -1,7 +1,7 @@
 #include "ReferenceDPDKernelFactory.h"
-#include "DPDHostCalcForceKernel.h"
+#include "HostDPDCalcForceKernel.h"
 #include "ReferenceDPDPairEngine.h"
-#include "DPDHostIntegrateStepKernel.h"
+#include "HostDPDIntegrateStepKernel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/windowsExport.h"
 
@@ -23,10 +23,10 @@ extern "C" OPENMM_EXPORT void registerKernelFactories() {
 
 OpenMM::KernelImpl* ReferenceDPDKernelFactory::createKernelImpl(std::string name, const OpenMM::Platform& platform,
                                                                 OpenMM::ContextImpl& context) const {
-    DPDPairEngineFactory makeEngine = [] { return std::make_unique<ReferenceDPDPairEngine>(); };
+    HostDPDPairEngineFactory makeEngine = [] { return std::make_unique<ReferenceDPDPairEngine>(); };
     if (name == CalcDPDForceKernel::Name())
-        return new DPDHostCalcForceKernel(name, platform, makeEngine());
+        return new HostDPDCalcForceKernel(name, platform, makeEngine());
     if (name == IntegrateDPDStepKernel::Name())
-        return new DPDHostIntegrateStepKernel(name, platform, makeEngine);
+        return new HostDPDIntegrateStepKernel(name, platform, makeEngine);
     throw OpenMM::OpenMMException("ReferenceDPDKernelFactory: no kernel named '"+name+"'");
 }

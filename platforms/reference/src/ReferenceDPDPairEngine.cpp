@@ -50,7 +50,7 @@ void ReferenceDPDPairEngine::sweepDissipativePairs(const DPDPairSweep& sweep, Vi
         double cutoff = sweep.friction.cutoffOf(ti, tj);
         double gamma = sweep.friction.valueOf(ti, tj);
         double invReducedMass = sweep.inverseMasses[pair.i]+sweep.inverseMasses[pair.j];
-        if (pair.r >= cutoff || gamma == 0.0 || invReducedMass == 0.0)
+        if (!dpdPairActs(pair.r, cutoff, gamma, invReducedMass))
             continue;
         visit(pair, 1.0-pair.r/cutoff, gamma, invReducedMass, dpdPairNormalFactors(sweep.randomKey, pair.i, pair.j));
     }

@@ -36,6 +36,23 @@ DPD_FUNCTION double dpdMomentumChange(DPDPairUpdate update, double relativeVeloc
     return update.slope*relativeVelocity + update.offset;
 }
 
+/**
+ * The same in one rounding (a fused multiply-add), for an engine whose successive sweep runs on a
+ * processor with FMA; the sweeps of one build use one of the two forms throughout.
+ */
+DPD_FUNCTION double dpdMomentumChangeFused(DPDPairUpdate update, double relativeVelocity) {
+    return fma(update.slope, relativeVelocity, update.offset);
+}
+
+/**
+ * Whether a pair at distance r acts in a sweep (1) or not (0): closer than its type pair's cutoff,
+ * with friction, and not both particles massless (1/m_ij = 1/m_i + 1/m_j > 0).  Without branches, so
+ * that a vectorised loop can use it as a mask.
+ */
+DPD_FUNCTION int dpdPairActs(double r, double cutoff, double gamma, double invReducedMass) {
+    return (r < cutoff) & (gamma != 0.0) & (invReducedMass > 0.0);
+}
+
 /** Of the momentum change, the part that is dissipation (not noise): slope u (Norton, Wu & Shang eq. 60). */
 DPD_FUNCTION double dpdDissipativePart(DPDPairUpdate update, double relativeVelocity) {
     return update.slope*relativeVelocity;

@@ -34,7 +34,7 @@ struct DPDSweepRequest {
  * revision, kT, the checks before a step and the Lees-Edwards part of its start, which forces are kept
  * for the next step and for which box, whether the pairs belong to the current positions, which force
  * evaluations the step owns, the stored forces of a checkpoint, what a change made from outside
- * invalidates, and the fusions' sequential fallbacks.  A backend (DPDHostStepBackend for Reference
+ * invalidates, and the fusions' sequential fallbacks.  A backend (HostDPDStepBackend for Reference
  * and CPU, CommonDPDStepBackend for OpenCL and CUDA) writes what its memory makes it do.
  *
  * The calls that can find a non-finite or runaway state report it (the first particle, or false) and

@@ -54,7 +54,7 @@ DEVICE int dpdFindDissipativePair(mixed4 pi, mixed4 pj, double invMassI, double 
         return 0;
     double rc = cutoff[pairType], gamma = friction[pairType];
     double invReducedMass = invMassI+invMassJ;
-    if (geometry.r >= rc || gamma == 0.0 || invReducedMass == 0.0)
+    if (!dpdPairActs(geometry.r, rc, gamma, invReducedMass))
         return 0;
     pair->r = geometry.r;
     pair->w = 1.0-geometry.r/rc;

@@ -1,10 +1,10 @@
-#include "DPDPairEngine.h"
+#include "HostDPDPairEngine.h"
 #include <atomic>
 
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
 
-bool DPDPairEngine::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, const std::vector<double>& inverseMasses, double dt,
+bool HostDPDPairEngine::kick(std::vector<Vec3>& velocities, const std::vector<Vec3>& forces, const std::vector<double>& inverseMasses, double dt,
                          std::vector<Vec3>* storedForces) {
     std::atomic<bool> allFinite{true};
     if (storedForces != nullptr)

@@ -1,6 +1,6 @@
-#include "DPDHostStepBackend.h"
+#include "HostDPDStepBackend.h"
 #include "DPDFrictionTable.h"
-#include "DPDHostCalcForceKernel.h"
+#include "HostDPDCalcForceKernel.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
@@ -20,7 +20,7 @@
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
 
-struct DPDHostStepBackend::ContextArrays {
+struct HostDPDStepBackend::ContextArrays {
     std::vector<Vec3>& positions;
     std::vector<Vec3>& velocities;
     std::vector<Vec3>& forces;
@@ -28,13 +28,13 @@ struct DPDHostStepBackend::ContextArrays {
     OpenMM::ReferencePlatform::PlatformData& data;
 };
 
-DPDHostStepBackend::ContextArrays DPDHostStepBackend::arrays() const {
+HostDPDStepBackend::ContextArrays HostDPDStepBackend::arrays() const {
     auto* data = reinterpret_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
     return {*data->positions, *data->velocities, *data->forces, data->periodicBoxVectors, *data};
 }
 
-DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, DPDSchemeState& state,
-                                       DPDPairEngineFactory makeEngine)
+HostDPDStepBackend::HostDPDStepBackend(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, DPDSchemeState& state,
+                                       HostDPDPairEngineFactory makeEngine)
     : DPDStepBackend(context, integrator, state) {
     const OpenMM::System& system = context.getSystem();
     for (int i = 0; i < system.getNumParticles(); i++)
@@ -67,7 +67,7 @@ DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIn
         auto* forceImpl = dynamic_cast<DPDForceImpl*>(impl);
         if (forceImpl == nullptr)
             continue;
-        auto* kernel = dynamic_cast<DPDHostCalcForceKernel*>(&forceImpl->getKernel().getImpl());
+        auto* kernel = dynamic_cast<HostDPDCalcForceKernel*>(&forceImpl->getKernel().getImpl());
         if (kernel != nullptr && forceImpl->getOwner().getTable().compile(system.getNumParticles()).maxCutoff >= friction.maxCutoff) {
             sharedForceKernel = kernel;
             sharedForceImpl = forceImpl;
@@ -81,24 +81,24 @@ DPDHostStepBackend::DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIn
     for (OpenMM::ForceImpl* impl : integratedForceImpls)
         integratedDPDForces += dynamic_cast<DPDForceImpl*>(impl) != nullptr;
     if (sharedForceKernel != nullptr && forcesFromDPDForcesAlone && integratedDPDForces == 1)
-        forceKeepingEngine = dynamic_cast<DPDForceKeepingPairEngine*>(&sharedForceKernel->getPairEngine());
+        forceKeepingEngine = dynamic_cast<HostDPDForceKeepingPairEngine*>(&sharedForceKernel->getPairEngine());
 }
 
-void DPDHostStepBackend::getBox(Vec3* box) const {
+void HostDPDStepBackend::getBox(Vec3* box) const {
     std::copy(arrays().box, arrays().box+3, box);
 }
 
-void DPDHostStepBackend::prepareStressSample() {
+void HostDPDStepBackend::prepareStressSample() {
     stress.beginSample(context, integrationGroups, sharedForceKernel != nullptr ? &sharedForceKernel->getPairEngine() : nullptr,
                        sharedForceImpl, sharedEvaluationCount());
 }
 
-void DPDHostStepBackend::wrapIntoPrimaryCell() {
+void HostDPDStepBackend::wrapIntoPrimaryCell() {
     ContextArrays current = arrays();
     leesEdwards.wrapIntoPrimaryCell(current.positions, current.box);
 }
 
-void DPDHostStepBackend::endStep(double stepSize, double stressScale) {
+void HostDPDStepBackend::endStep(double stepSize, double stressScale) {
     ContextArrays current = arrays();
     if (accumulateStress)
         stress.endSample(current.positions, current.velocities, masses, current.box, stepPairStress, stressScale, sharedEvaluationCount());
@@ -106,13 +106,13 @@ void DPDHostStepBackend::endStep(double stepSize, double stressScale) {
     current.data.stepCount++;
 }
 
-void DPDHostStepBackend::abandonStep() {
+void HostDPDStepBackend::abandonStep() {
     stress.abandonSample();
     if (forcesKept) // the forces are the Context's again
         latestForces();
 }
 
-DPDFusionSupport DPDHostStepBackend::fusionSupport() const {
+DPDFusionSupport HostDPDStepBackend::fusionSupport() const {
     DPDFusionSupport support;
     support.kickBeforeDrift = !leesEdwards.isSheared(); // the sheared drift is a pass of its own
     support.repeatedDrift = !leesEdwards.isSheared();
@@ -124,7 +124,7 @@ DPDFusionSupport DPDHostStepBackend::fusionSupport() const {
     return support;
 }
 
-std::vector<Vec3>& DPDHostStepBackend::latestForces() {
+std::vector<Vec3>& HostDPDStepBackend::latestForces() {
     if (forcesKept) { // an operation that needs them in System order after all
         std::vector<Vec3>& forces = arrays().forces;
         std::fill(forces.begin(), forces.end(), Vec3());
@@ -135,7 +135,7 @@ std::vector<Vec3>& DPDHostStepBackend::latestForces() {
     return latestForcesStored ? storedForces : arrays().forces;
 }
 
-void DPDHostStepBackend::storeForces() {
+void HostDPDStepBackend::storeForces() {
     const std::vector<Vec3>& forces = latestForces();
     storedForces.resize(forces.size());
     ownEngine->forEachParticleRange(static_cast<int>(forces.size()), [&](int begin, int end) {
@@ -145,7 +145,7 @@ void DPDHostStepBackend::storeForces() {
     latestForcesStored = true;
 }
 
-int DPDHostStepBackend::drift(double dt, int times, double kickDt, bool* velocitiesFinite) {
+int HostDPDStepBackend::drift(double dt, int times, double kickDt, bool* velocitiesFinite) {
     ContextArrays current = arrays();
     std::vector<Vec3>& positions = current.positions;
     std::vector<Vec3>& velocities = current.velocities;
@@ -180,7 +180,7 @@ int DPDHostStepBackend::drift(double dt, int times, double kickDt, bool* velocit
         auto pass = [&](auto withKick) { // one loop, compiled with and without the kick
             for (int i = begin; i < end; i++) {
                 if constexpr (decltype(withKick)::value)
-                    allFinite &= DPDPairEngine::kickVelocity(velocities[i], (*kickForces)[i], kickDt*inverseMasses[i]);
+                    allFinite &= HostDPDPairEngine::kickVelocity(velocities[i], (*kickForces)[i], kickDt*inverseMasses[i]);
                 Vec3 displacement = displacementOf(i);
                 for (int k = 0; k < times; k++)
                     positions[i] += displacement;
@@ -208,7 +208,7 @@ int DPDHostStepBackend::drift(double dt, int times, double kickDt, bool* velocit
     return unsound.load();
 }
 
-void DPDHostStepBackend::checkExternalState() const {
+void HostDPDStepBackend::checkExternalState() const {
     ContextArrays current = arrays();
     for (std::size_t i = 0; i < current.positions.size(); i++) {
         const char* what = nullptr;
@@ -228,11 +228,11 @@ void DPDHostStepBackend::checkExternalState() const {
     }
 }
 
-void DPDHostStepBackend::checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const {
+void HostDPDStepBackend::checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const {
     DPDPeriodicBox::checkCutoff("DPDIntegrator", compiled.maxCutoff, arrays().box);
 }
 
-void DPDHostStepBackend::evaluateForces(bool keepForces, bool needPairs) {
+void HostDPDStepBackend::evaluateForces(bool keepForces, bool needPairs) {
     long long evaluationsBefore = sharedEvaluationCount();
     keepForces &= fusionSupport().keepForcesForKicks; // only in the direct evaluation (the first goes through the Context)
     state.storedForcesValid = false; // they belong to other positions now
@@ -247,8 +247,8 @@ void DPDHostStepBackend::evaluateForces(bool keepForces, bool needPairs) {
                 std::fill(forces.begin()+begin, forces.begin()+end, Vec3());
             });
         // Only for this evaluation, even if it throws: any other (a State's forces) must reach the Context.
-        std::unique_ptr<DPDForceKeepingPairEngine, void (*)(DPDForceKeepingPairEngine*)> keeping( // a scope guard
-            keepForces ? forceKeepingEngine : nullptr, [](DPDForceKeepingPairEngine* engine) { engine->keepForcesSorted(false); });
+        std::unique_ptr<HostDPDForceKeepingPairEngine, void (*)(HostDPDForceKeepingPairEngine*)> keeping( // a scope guard
+            keepForces ? forceKeepingEngine : nullptr, [](HostDPDForceKeepingPairEngine* engine) { engine->keepForcesSorted(false); });
         if (keepForces)
             forceKeepingEngine->keepForcesSorted(true);
         for (OpenMM::ForceImpl* impl : integratedForceImpls)
@@ -276,11 +276,11 @@ void DPDHostStepBackend::evaluateForces(bool keepForces, bool needPairs) {
         latestForces(); // the O sweep is another engine's: the forces go to the Context
 }
 
-void DPDHostStepBackend::usePairsOfSharedForce() {
+void HostDPDStepBackend::usePairsOfSharedForce() {
     sweepEngine = &sharedForceKernel->getPairEngine();
 }
 
-void DPDHostStepBackend::findPairs() {
+void HostDPDStepBackend::findPairs() {
     ContextArrays current = arrays();
     DPDPeriodicBox::checkCutoff("DPDIntegrator", friction.maxCutoff, current.box);
     ownEngine->findPairs(current.positions, current.box, friction.maxCutoff, nullptr, nullptr);
@@ -288,7 +288,7 @@ void DPDHostStepBackend::findPairs() {
     pairsAtCurrentPositions = true;
 }
 
-bool DPDHostStepBackend::kick(double dt, bool keepForces) {
+bool HostDPDStepBackend::kick(double dt, bool keepForces) {
     const std::vector<Vec3>& forces = latestForces();
     bool finite = ownEngine->kick(arrays().velocities, forces, inverseMasses, dt, keepForces ? &storedForces : nullptr);
     if (keepForces)
@@ -296,28 +296,28 @@ bool DPDHostStepBackend::kick(double dt, bool keepForces) {
     return finite;
 }
 
-void DPDHostStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep) {
+void HostDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep) {
     double response = sweepEngine->applyPairwiseOrnsteinUhlenbeck(pairSweep(sweep), arrays().velocities,
                                                                   sweep.gatherResponse ? &forcing.getResponseField() : nullptr);
     if (sweep.gatherResponse)
         responseOfDissipation = response;
 }
 
-void DPDHostStepBackend::sweepBBK(const DPDSweepRequest& sweep) {
+void HostDPDStepBackend::sweepBBK(const DPDSweepRequest& sweep) {
     sweepEngine->applyPairwiseBBK(pairSweep(sweep), arrays().velocities);
 }
 
-void DPDHostStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& sweep) {
+void HostDPDStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& sweep) {
     sweepEngine->addDissipativeAndRandomForces(pairSweep(sweep), arrays().velocities, latestForces());
 }
 
-bool DPDHostStepBackend::sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& sweep, double kickDt) {
+bool HostDPDStepBackend::sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& sweep, double kickDt) {
     if (!sweepsUseKeptForces())
         return DPDStepBackend::sweepBetweenKicks(kind, sweep, kickDt);
     return forceKeepingEngine->sweepBetweenKeptForceKicks(kind == DPDStepOperation::BBKSweep, pairSweep(sweep), kickDt, arrays().velocities);
 }
 
-bool DPDHostStepBackend::kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) {
+bool HostDPDStepBackend::kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) {
     if (!sweepsUseKeptForces())
         return DPDStepBackend::kickWithKeptForces(dt, kicks, keepForces, dissipativeAndRandom);
     DPDPairSweep sweep = pairSweep(dissipativeAndRandom != nullptr ? *dissipativeAndRandom : DPDSweepRequest{dt, 0, false});
@@ -330,28 +330,28 @@ bool DPDHostStepBackend::kickWithKeptForces(double dt, int kicks, bool keepForce
     return finite;
 }
 
-void DPDHostStepBackend::moveImages(double elapsed, bool wrap) {
+void HostDPDStepBackend::moveImages(double elapsed, bool wrap) {
     ContextArrays current = arrays();
     leesEdwards.moveImages(context, current.box, elapsed);
     if (wrap)
         leesEdwards.wrapIntoPrimaryCell(current.positions, current.box);
 }
 
-std::optional<double> DPDHostStepBackend::evaluateForcingField() {
+std::optional<double> HostDPDStepBackend::evaluateForcingField() {
     ContextArrays current = arrays();
     forcingDotResponse = forcing.evaluate(*forcedIntegrator->getForcingProfile(), current.positions, current.box, masses);
     return forcingDotResponse; // the scheme layer checks Norton's controllability
 }
 
-double DPDHostStepBackend::responseOfVelocities() const {
+double HostDPDStepBackend::responseOfVelocities() const {
     return forcing.responseOf(arrays().velocities, masses);
 }
 
-void DPDHostStepBackend::applyForcingImpulse(double xi) {
+void HostDPDStepBackend::applyForcingImpulse(double xi) {
     forcing.applyImpulse(xi, arrays().velocities, inverseMasses);
 }
 
-double DPDHostStepBackend::computeKineticEnergy() const {
+double HostDPDStepBackend::computeKineticEnergy() const {
     ContextArrays current = arrays();
     double energy = 0.0;
     for (std::size_t i = 0; i < current.velocities.size(); i++)

@@ -1,5 +1,5 @@
-#ifndef OPENMMDPD_DPDPAIRENGINE_H_
-#define OPENMMDPD_DPDPAIRENGINE_H_
+#ifndef OPENMMDPD_HOSTDPDPAIRENGINE_H_
+#define OPENMMDPD_HOSTDPDPAIRENGINE_H_
 
 #include "DPDPairFormulas.h"
 #include "DPDPairRandom.h"
@@ -60,16 +60,16 @@ struct DPDPairSweep {
 /**
  * What a host platform (Reference, CPU) contributes to the DPD kernels: how the pairs closer than a
  * radius are found and how they are swept.  The schemes (DPDSplittingDynamics, on the host platforms
- * through DPDHostStepBackend) and the pair formulas (DPDPairFormulas.h) are written once; an engine owns the pairs of its latest search, so the force evaluation and the O
+ * through HostDPDStepBackend) and the pair formulas (DPDPairFormulas.h) are written once; an engine owns the pairs of its latest search, so the force evaluation and the O
  * sweep at the same positions share one list (Shang 2021: one force evaluation per ABOBA step).
  *
  * Every sweep visits each pair (i, j) closer than its type pair's dissipative cutoff once, with the
  * minimum-image unit vector e_ij = (q_i - q_j)/r_ij and w = 1 - r_ij/r_c.  The successive sweeps (O)
  * may use any pair order (Shang 2021 sec. 2.3); each engine documents and fixes its order.
  */
-class DPDPairEngine {
+class HostDPDPairEngine {
 public:
-    virtual ~DPDPairEngine() = default;
+    virtual ~HostDPDPairEngine() = default;
 
     /**
      * Find every pair closer than `radius` at these positions.  With `repulsion`, also add the soft
@@ -123,7 +123,7 @@ protected:
 };
 
 /** How a platform makes its engines (one for a DPDForce kernel, one for an integrator's own pairs). */
-using DPDPairEngineFactory = std::function<std::unique_ptr<DPDPairEngine>()>;
+using HostDPDPairEngineFactory = std::function<std::unique_ptr<HostDPDPairEngine>()>;
 
 } // namespace OpenMMDPD
 

@@ -1,7 +1,7 @@
-#ifndef OPENMMDPD_DPDSTRESSACCUMULATOR_H_
-#define OPENMMDPD_DPDSTRESSACCUMULATOR_H_
+#ifndef OPENMMDPD_HOSTDPDSTRESSACCUMULATOR_H_
+#define OPENMMDPD_HOSTDPDSTRESSACCUMULATOR_H_
 
-#include "DPDPairEngine.h"
+#include "HostDPDPairEngine.h"
 #include "openmm/internal/ContextImpl.h"
 #include "openmm/Vec3.h"
 #include "openmmdpd/DPDIntegrator.h"
@@ -21,18 +21,18 @@ namespace OpenMMDPD {
  * plus the virial tensor of its bonds, angles and torsions); any other force makes the first sample
  * throw, before the step.  Nothing is computed unless the integrator asks for stress.
  */
-class DPDStressAccumulator {
+class HostDPDStressAccumulator {
 public:
     /**
      * Before a step that samples: read the pair potentials the Context computes for the integrated force
      * groups (or read again what changed since), throwing, naming the force, for one the conservative
      * part cannot handle, before the step has moved anything.  With `forcePassEngine`, the engine of the
      * DPDForce `forcePassForce`, that force's conservative part is summed by its own force pass during
-     * the step (DPDPairEngine::setConservativeStressSink: at the step's force evaluation, ABOBA's
+     * the step (HostDPDPairEngine::setConservativeStressSink: at the step's force evaluation, ABOBA's
      * q^{n+1/2}, VV's and S1's q^{n+1}) and left out of the pass here; `evaluations` is its kernel's
      * count of evaluations so far.
      */
-    void beginSample(OpenMM::ContextImpl& context, int integrationGroups, DPDPairEngine* forcePassEngine,
+    void beginSample(OpenMM::ContextImpl& context, int integrationGroups, HostDPDPairEngine* forcePassEngine,
                      const OpenMM::ForceImpl* forcePassForce, long long evaluations);
     /**
      * After the step: add its sample (the kinetic and conservative parts at these positions and peculiar
@@ -51,7 +51,7 @@ private:
     void addKineticAndConservative(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities,
                                    const std::vector<double>& masses, const OpenMM::Vec3* box);
     DPDIntegrator::StressStatistics statistics;
-    DPDPairEngine* forcePassEngine = nullptr; // summing the shared DPDForce's part during the current step
+    HostDPDPairEngine* forcePassEngine = nullptr; // summing the shared DPDForce's part during the current step
     double forcePassSums[6] = {};
     long long evaluationsAtBegin = 0;
     std::unique_ptr<DPDConservativeVirial> otherForces; // the conservative part of the forces no force pass sums

@@ -1,13 +1,13 @@
-#ifndef OPENMMDPD_DPDHOSTSTEPBACKEND_H_
-#define OPENMMDPD_DPDHOSTSTEPBACKEND_H_
+#ifndef OPENMMDPD_HOSTDPDSTEPBACKEND_H_
+#define OPENMMDPD_HOSTDPDSTEPBACKEND_H_
 
-#include "DPDForceKeepingPairEngine.h"
+#include "HostDPDForceKeepingPairEngine.h"
 #include "DPDForcingFields.h"
 #include "DPDLeesEdwardsFlow.h"
-#include "DPDPairEngine.h"
+#include "HostDPDPairEngine.h"
 #include "DPDSchemeState.h"
 #include "DPDStepBackend.h"
-#include "DPDStressAccumulator.h"
+#include "HostDPDStressAccumulator.h"
 #include "openmm/State.h"
 #include "openmm/internal/ContextImpl.h"
 #include "openmmdpd/DPDIntegrator.h"
@@ -18,12 +18,12 @@
 
 namespace OpenMMDPD {
 
-class DPDHostCalcForceKernel;
+class HostDPDCalcForceKernel;
 
 /**
  * The schemes' backend on the host platforms (Reference and CPU, whose Contexts keep their state in
  * ReferencePlatform::PlatformData): the operations of DPDStepBackend on the Context's arrays, with the
- * platform's pair engines (DPDPairEngine) for the pairs and sweeps and its threads for the
+ * platform's pair engines (HostDPDPairEngine) for the pairs and sweeps and its threads for the
  * per-particle passes.
  *
  * The pairs of the O sweep are those the DPDForce kernel's engine found in the force evaluation at the
@@ -31,12 +31,12 @@ class DPDHostCalcForceKernel;
  * own engine.  When the integrated forces are DPDForces and harmonic bonds and angles (and no virtual
  * site spreads forces), an evaluation asks them directly (DPDBondedTerms for the bonded ones) once the
  * Context has evaluated its forces the usual way.  When they are one DPDForce whose engine keeps forces
- * (DPDForceKeepingPairEngine), the backend declares the fusions that apply its kicks in that engine's
+ * (HostDPDForceKeepingPairEngine), the backend declares the fusions that apply its kicks in that engine's
  * passes (DPDFusionSupport::keepForcesForKicks).
  */
-class DPDHostStepBackend : public DPDStepBackend {
+class HostDPDStepBackend : public DPDStepBackend {
 public:
-    DPDHostStepBackend(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, DPDSchemeState& state, DPDPairEngineFactory makeEngine);
+    HostDPDStepBackend(OpenMM::ContextImpl& context, const DPDIntegrator& integrator, DPDSchemeState& state, HostDPDPairEngineFactory makeEngine);
 
     void checkFrictionCutoffFitsBox(const DPDTypePairTable::Compiled& compiled) const override;
     int getNumParticles() const override { return static_cast<int>(masses.size()); }
@@ -101,22 +101,22 @@ private:
     std::vector<double> masses, inverseMasses;
     bool uniformInverseMass = true; // all of inverseMasses equal
 
-    DPDHostCalcForceKernel* sharedForceKernel = nullptr;
+    HostDPDCalcForceKernel* sharedForceKernel = nullptr;
     const OpenMM::ForceImpl* sharedForceImpl = nullptr; // its DPDForce
     bool forcesFromDPDForcesAlone = false; // or harmonic bonds and angles, which directBondedForces evaluates
     std::unique_ptr<DPDBondedTerms> directBondedForces;
     bool directBondedStale = true;           // built at the first direct evaluation, again when parameters change
     std::vector<OpenMM::ForceImpl*> integratedForceImpls;
     bool contextEvaluatedForces = false;
-    std::unique_ptr<DPDPairEngine> ownEngine; // also runs the per-particle passes on the platform's threads
-    DPDForceKeepingPairEngine* forceKeepingEngine = nullptr; // the one integrated DPDForce's engine, if it keeps forces
-    DPDPairEngine* sweepEngine = nullptr;                    // the engine holding the sweeps' pairs (where pairsAtCurrentPositions)
+    std::unique_ptr<HostDPDPairEngine> ownEngine; // also runs the per-particle passes on the platform's threads
+    HostDPDForceKeepingPairEngine* forceKeepingEngine = nullptr; // the one integrated DPDForce's engine, if it keeps forces
+    HostDPDPairEngine* sweepEngine = nullptr;                    // the engine holding the sweeps' pairs (where pairsAtCurrentPositions)
     bool forcesKept = false;                                 // the latest evaluation left its forces in forceKeepingEngine
 
     DPDForcingFields forcing;
 
     DPDLeesEdwardsFlow leesEdwards;
-    DPDStressAccumulator stress;
+    HostDPDStressAccumulator stress;
     DPDPairStressSums stepPairStress;
 
     // S1 and VV start a step with the force (and for S1 the pairs) of the previous step's end.

@@ -1,4 +1,4 @@
-#include "DPDStressAccumulator.h"
+#include "HostDPDStressAccumulator.h"
 #include "openmm/OpenMMException.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <algorithm>
@@ -21,7 +21,7 @@ void addSymmetric(double* sum, const double* s, double minusInverseVolume) {
 
 } // namespace
 
-void DPDStressAccumulator::beginSample(OpenMM::ContextImpl& context, int integrationGroups, DPDPairEngine* forcePassEngine,
+void HostDPDStressAccumulator::beginSample(OpenMM::ContextImpl& context, int integrationGroups, HostDPDPairEngine* forcePassEngine,
                                        const OpenMM::ForceImpl* forcePassForce, long long evaluations) {
     if (!otherForces) // throws for forces it cannot handle
         otherForces = std::make_unique<DPDConservativeVirial>(context, integrationGroups, forcePassEngine != nullptr ? forcePassForce : nullptr);
@@ -33,13 +33,13 @@ void DPDStressAccumulator::beginSample(OpenMM::ContextImpl& context, int integra
         forcePassEngine->setConservativeStressSink(forcePassSums);
 }
 
-void DPDStressAccumulator::abandonSample() {
+void HostDPDStressAccumulator::abandonSample() {
     if (forcePassEngine != nullptr)
         forcePassEngine->setConservativeStressSink(nullptr);
     forcePassEngine = nullptr;
 }
 
-void DPDStressAccumulator::endSample(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, const std::vector<double>& masses,
+void HostDPDStressAccumulator::endSample(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, const std::vector<double>& masses,
                                      const Vec3* box, const DPDPairStressSums& pairSums, double scale, long long evaluations) {
     bool forcePassSampled = forcePassEngine != nullptr;
     abandonSample();
@@ -52,7 +52,7 @@ void DPDStressAccumulator::endSample(const std::vector<Vec3>& positions, const s
     statistics.steps++;
 }
 
-void DPDStressAccumulator::addKineticAndConservative(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+void HostDPDStressAccumulator::addKineticAndConservative(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
                                                      const std::vector<double>& masses, const Vec3* box) {
     double minusInverseVolume = -1.0/(box[0][0]*box[1][1]*box[2][2]);
     // Kinetic part with the peculiar velocities (eq. 3.3).

@@ -1,7 +1,7 @@
-#ifndef OPENMMDPD_DPDHOSTCALCFORCEKERNEL_H_
-#define OPENMMDPD_DPDHOSTCALCFORCEKERNEL_H_
+#ifndef OPENMMDPD_HOSTDPDCALCFORCEKERNEL_H_
+#define OPENMMDPD_HOSTDPDCALCFORCEKERNEL_H_
 
-#include "DPDPairEngine.h"
+#include "HostDPDPairEngine.h"
 #include "DPDPairListOwner.h"
 #include "openmmdpd/CalcDPDForceKernel.h"
 #include "openmmdpd/DPDTypePairTable.h"
@@ -16,9 +16,9 @@ namespace OpenMMDPD {
  * costs more in candidates than it saves in builds) and adds their forces in the same pass.  The
  * engine keeps the pairs of the latest evaluation for a DPDIntegrator sweeping at the same positions.
  */
-class DPDHostCalcForceKernel : public CalcDPDForceKernel, public DPDPairListOwner {
+class HostDPDCalcForceKernel : public CalcDPDForceKernel, public DPDPairListOwner {
 public:
-    DPDHostCalcForceKernel(const std::string& name, const OpenMM::Platform& platform, std::unique_ptr<DPDPairEngine> engine)
+    HostDPDCalcForceKernel(const std::string& name, const OpenMM::Platform& platform, std::unique_ptr<HostDPDPairEngine> engine)
         : CalcDPDForceKernel(name, platform), engine(std::move(engine)) {}
     void initialize(const OpenMM::System& system, const DPDForce& force) override;
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
@@ -27,12 +27,12 @@ public:
     void checkParametersFitBox(OpenMM::ContextImpl& context) const override { checkCutoffFitsBox(context, parameters.maxCutoff); }
 
     /** The engine holding the pairs closer than the largest cutoff at the positions of the latest evaluation. */
-    DPDPairEngine& getPairEngine() const { return *engine; }
+    HostDPDPairEngine& getPairEngine() const { return *engine; }
     long long getEvaluationCount() const override { return evaluationCount; }
     double getPairListCutoff() const override { return engine->getRadius(); }
 
 private:
-    std::unique_ptr<DPDPairEngine> engine;
+    std::unique_ptr<HostDPDPairEngine> engine;
     DPDTypePairTable::Compiled parameters;
     std::vector<OpenMM::Vec3> scratchForces;
     long long evaluationCount = 0;

@@ -1,4 +1,4 @@
-#include "DPDHostCalcForceKernel.h"
+#include "HostDPDCalcForceKernel.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/reference/ReferencePlatform.h"
@@ -6,11 +6,11 @@
 using namespace OpenMMDPD;
 using OpenMM::Vec3;
 
-void DPDHostCalcForceKernel::initialize(const OpenMM::System& system, const DPDForce& force) {
+void HostDPDCalcForceKernel::initialize(const OpenMM::System& system, const DPDForce& force) {
     parameters = force.getTable().compile(system.getNumParticles());
 }
 
-void DPDHostCalcForceKernel::copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) {
+void HostDPDCalcForceKernel::copyParametersToContext(OpenMM::ContextImpl& context, const DPDForce& force) {
     DPDTypePairTable::Compiled updated = force.getTable().compile(context.getSystem().getNumParticles());
     if (updated.numTypes != parameters.numTypes)
         throw OpenMM::OpenMMException("DPDForce: updateParametersInContext cannot change the set of particle types");
@@ -18,12 +18,12 @@ void DPDHostCalcForceKernel::copyParametersToContext(OpenMM::ContextImpl& contex
     parameters = std::move(updated);
 }
 
-void DPDHostCalcForceKernel::checkCutoffFitsBox(OpenMM::ContextImpl& context, double maxCutoff) const {
+void HostDPDCalcForceKernel::checkCutoffFitsBox(OpenMM::ContextImpl& context, double maxCutoff) const {
     auto* data = reinterpret_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
     DPDPeriodicBox::checkCutoff("DPDForce", maxCutoff, data->periodicBoxVectors);
 }
 
-double DPDHostCalcForceKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
+double HostDPDCalcForceKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
     auto* data = reinterpret_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
     const Vec3* box = data->periodicBoxVectors;
     checkParametersFitBox(context);

@@ -1,8 +1,8 @@
-#ifndef OPENMMDPD_DPDHOSTINTEGRATESTEPKERNEL_H_
-#define OPENMMDPD_DPDHOSTINTEGRATESTEPKERNEL_H_
+#ifndef OPENMMDPD_HOSTDPDINTEGRATESTEPKERNEL_H_
+#define OPENMMDPD_HOSTDPDINTEGRATESTEPKERNEL_H_
 
-#include "DPDHostStepBackend.h"
-#include "DPDPairEngine.h"
+#include "HostDPDStepBackend.h"
+#include "HostDPDPairEngine.h"
 #include "DPDSplittingStepKernel.h"
 #include <memory>
 
@@ -10,15 +10,15 @@ namespace OpenMMDPD {
 
 /**
  * DPDIntegrator steps on the host platforms, Reference and CPU: the schemes (DPDSplittingDynamics) on
- * the host backend (DPDHostStepBackend), with the platform's pair engines.
+ * the host backend (HostDPDStepBackend), with the platform's pair engines.
  */
-class DPDHostIntegrateStepKernel : public DPDSplittingStepKernel {
+class HostDPDIntegrateStepKernel : public DPDSplittingStepKernel {
 public:
-    DPDHostIntegrateStepKernel(const std::string& name, const OpenMM::Platform& platform, DPDPairEngineFactory makeEngine)
+    HostDPDIntegrateStepKernel(const std::string& name, const OpenMM::Platform& platform, HostDPDPairEngineFactory makeEngine)
         : DPDSplittingStepKernel(name, platform), makeEngine(std::move(makeEngine)) {}
     void initialize(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) override {
         dynamics = std::make_unique<DPDSplittingDynamics>(integrator, [&](DPDSchemeState& state) {
-            auto backend = std::make_unique<DPDHostStepBackend>(context, integrator, state, makeEngine);
+            auto backend = std::make_unique<HostDPDStepBackend>(context, integrator, state, makeEngine);
             hostBackend = backend.get();
             return backend;
         });
@@ -32,8 +32,8 @@ public:
     void stateChanged(OpenMM::State::DataType changed) override { hostBackend->stateChanged(changed); }
 
 private:
-    DPDPairEngineFactory makeEngine;
-    DPDHostStepBackend* hostBackend = nullptr; // owned by dynamics
+    HostDPDPairEngineFactory makeEngine;
+    HostDPDStepBackend* hostBackend = nullptr; // owned by dynamics
 };
 
 } // namespace OpenMMDPD

@@ -1,12 +1,12 @@
-#ifndef OPENMMDPD_DPDFORCEKEEPINGPAIRENGINE_H_
-#define OPENMMDPD_DPDFORCEKEEPINGPAIRENGINE_H_
+#ifndef OPENMMDPD_HOSTDPDFORCEKEEPINGPAIRENGINE_H_
+#define OPENMMDPD_HOSTDPDFORCEKEEPINGPAIRENGINE_H_
 
-#include "DPDPairEngine.h"
+#include "HostDPDPairEngine.h"
 #include <vector>
 
 namespace OpenMMDPD {
 
-/** The closing kick B(dt) of VV and S1 with an engine's kept forces (DPDForceKeepingPairEngine::kickWithKeptForces). */
+/** The closing kick B(dt) of VV and S1 with an engine's kept forces (HostDPDForceKeepingPairEngine::kickWithKeptForces). */
 struct DPDKeptForceKick {
     double dt;
     const std::vector<double>& inverseMasses;
@@ -22,7 +22,7 @@ struct DPDKeptForceKick {
  * kick in the pass that brings the forces to System order.  Each gives the bits of its operations
  * carried out one after the other.  The CPU engine is one; the Reference engine, the plain oracle, is not.
  */
-class DPDForceKeepingPairEngine : public DPDPairEngine {
+class HostDPDForceKeepingPairEngine : public HostDPDPairEngine {
 public:
     /**
      * keepForcesSorted(true): the next searches keep the conservative forces in the engine instead of
