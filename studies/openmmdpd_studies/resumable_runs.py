@@ -1,12 +1,13 @@
 """Independent runs of a study on a Dask cluster, each saved to the output folder as it finishes, so
 that re-running the same command skips what is done (a killed study resumes).
 
-The studies (``python -m openmmdpd.study``, ``python -m openmmdpd.transport``) hand their runs to
-:func:`run_resumable`.  By default a ``dask.distributed.LocalCluster`` of ``--workers`` processes
-(one thread each) runs them; ``--scheduler ADDRESS`` sends them to a cluster the user already runs
-(for example one started by ``dask-jobqueue`` on SLURM).  Each run carries its own seed, so results
-do not depend on the number of workers or on the order in which runs finish.  A saved run is reused
-only when its function, arguments (scene, budget, seed) and the installed package's code are the same.
+The studies (``python -m openmmdpd_studies.efficiency``, ``python -m openmmdpd_studies.transport``)
+hand their runs to :func:`run_resumable`.  By default a ``dask.distributed.LocalCluster`` of
+``--workers`` processes (one thread each) runs them; ``--scheduler ADDRESS`` sends them to a cluster
+the user already runs (for example one started by ``dask-jobqueue`` on SLURM).  Each run carries its
+own seed, so results do not depend on the number of workers or on the order in which runs finish.  A
+saved run is reused only when its function, arguments (scene, budget, seed) and the installed
+package's code are the same.
 """
 
 from __future__ import annotations
