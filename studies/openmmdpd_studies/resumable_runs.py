@@ -6,8 +6,8 @@ hand their runs to :func:`run_resumable`.  By default a ``dask.distributed.Local
 ``--workers`` processes (one thread each) runs them; ``--scheduler ADDRESS`` sends them to a cluster
 the user already runs (for example one started by ``dask-jobqueue`` on SLURM).  Each run carries its
 own seed, so results do not depend on the number of workers or on the order in which runs finish.  A
-saved run is reused only when its function, arguments (scene, budget, seed) and the installed
-package's code are the same.
+saved run is reused only when its function, arguments (scene, budget, seed) and the installed code
+(the library's, compiled plugin included, and the studies') are the same.
 """
 
 from __future__ import annotations
@@ -24,6 +24,8 @@ from pathlib import Path
 from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple
 
 from tqdm import tqdm
+
+import openmmdpd
 
 #: A run: the function, its arguments (picklable: they travel to the workers).
 Run = Tuple[Callable[..., Any], Tuple[Any, ...]]
@@ -54,22 +56,31 @@ def dask_client(workers: int, scheduler: Optional[str] = None) -> Iterator["dist
         yield client
 
 
+def code_files() -> List[Tuple[str, Path]]:
+    """The files whose code a run's result depends on, each with the name it is digested under: the
+    Python files and compiled libraries of the installed library ``openmmdpd`` and of this package."""
+    files = []
+    for package in (Path(openmmdpd.__file__).resolve().parent, Path(__file__).resolve().parent):
+        for path in sorted(package.rglob("*")):
+            if path.is_file() and path.suffix in (".py", ".so"):
+                files.append((f"{package.name}/{path.relative_to(package)}", path))
+    return files
+
+
 @functools.lru_cache(maxsize=None)
 def code_digest() -> str:
-    """A digest of the installed package's files (compiled plugin and Python): results saved by
-    another build of openmmdpd are not reused."""
-    package = Path(__file__).resolve().parent
+    """A digest of :func:`code_files`: results saved by another build of openmmdpd or another version
+    of the studies are not reused."""
     digest = hashlib.sha256()
-    for path in sorted(package.rglob("*")):
-        if path.is_file() and path.suffix in (".py", ".so"):
-            digest.update(str(path.relative_to(package)).encode())
-            digest.update(path.read_bytes())
+    for name, path in code_files():
+        digest.update(name.encode())
+        digest.update(path.read_bytes())
     return digest.hexdigest()
 
 
 def fingerprint(run: Run) -> str:
     """A digest of a run's function and arguments (dataclasses and numbers have stable reprs) and of
-    the package's code: a saved result is reused only for the same run by the same build."""
+    the installed code: a saved result is reused only for the same run by the same build."""
     function, arguments = run
     text = f"{code_digest()}:{function.__module__}.{function.__qualname__}{arguments!r}"
     return hashlib.sha256(text.encode()).hexdigest()

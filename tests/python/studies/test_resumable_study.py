@@ -13,7 +13,7 @@ import openmm
 import pytest
 
 from openmmdpd_studies.efficiency.scene import METHOD_DESCRIPTIONS
-from openmmdpd_studies.resumable_runs import fingerprint, run_resumable
+from openmmdpd_studies.resumable_runs import code_files, fingerprint, run_resumable
 
 SCENE = Path(__file__).resolve().parent / "data" / "tiny_soft_fluid.toml"
 RUNS = 2 * 4  # methods x runs in the scene's "tiny" budget
@@ -90,3 +90,12 @@ def test_bad_worker_counts_are_refused():
     with pytest.raises(ValueError, match=r"workers = 0 is out of range; it must be an integer >= 1"):
         with dask_client(0):
             pass
+
+
+def test_the_code_digest_covers_the_library_and_the_studies():
+    # A saved run is reused only by the same code: the library's (its Python and compiled plugin) as well as
+    # the studies', which are another installed package since the split.
+    names = {name for name, _ in code_files()}
+    assert {"openmmdpd/_dpd_integrator.py", "openmmdpd/libOpenMMDPDCPU.so",
+            "openmmdpd_studies/resumable_runs.py", "openmmdpd_studies/efficiency/sweep.py"} <= names
+    assert any(name.startswith("openmmdpd/_openmmdpd.") and name.endswith(".so") for name in names)
