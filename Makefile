@@ -16,15 +16,18 @@ deps:
 	@bash tools/install-dependencies.sh
 
 # Builds (incrementally, in $(BUILD), with the C++ tests and examples) and installs openmmdpd into
-# $(PYTHON)'s environment with pip, against the OpenMM that environment has.  Every make reinstalls
-# it from this tree, so the installed copy is never older than the sources.
+# $(PYTHON)'s environment with pip, against the OpenMM that environment has, then the studies
+# (openmmdpd_studies, pure Python, from studies/).  Every make reinstalls both from this tree, so the
+# installed copies are never older than the sources.
 build: deps
-	@echo "Building and installing openmmdpd into $$($(PYTHON) -c 'import sys; print(sys.prefix)') (log: $(BUILD).install.log)"
+	@echo "Building and installing openmmdpd and openmmdpd-studies into $$($(PYTHON) -c 'import sys; print(sys.prefix)') (log: $(BUILD).install.log)"
 	@$(PYTHON) -m pip install --no-deps --no-build-isolation --force-reinstall --no-index -v . \
 		-Cbuild-dir=$(BUILD) \
 		-Ccmake.define.OPENMMDPD_BUILD_TESTS=ON -Ccmake.define.OPENMMDPD_BUILD_EXAMPLES=ON \
 		> $(BUILD).install.log 2>&1 || (tail -n 60 $(BUILD).install.log; exit 1)
-	@cd / && $(PYTHON) -c "import openmmdpd; print('Installed', openmmdpd.__file__)"
+	@$(PYTHON) -m pip install --no-deps --no-build-isolation --force-reinstall --no-index -v ./studies \
+		>> $(BUILD).install.log 2>&1 || (tail -n 60 $(BUILD).install.log; exit 1)
+	@cd / && $(PYTHON) -c "import openmmdpd, openmmdpd_studies; print('Installed', openmmdpd.__file__, 'and', openmmdpd_studies.__file__)"
 
 install: build
 

@@ -15,12 +15,3 @@ def test_import_openmmdpd_loads_no_study_and_no_study_dependency():
     loaded = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout.strip()
     assert loaded == "[]", f"import openmmdpd loaded {loaded}"
 
-
-def test_the_studies_need_what_the_studies_extra_declares():
-    import tomllib
-    from pathlib import Path
-
-    project = tomllib.loads((Path(__file__).resolve().parents[2] / "pyproject.toml").read_text())["project"]
-    extra = " ".join(project["optional-dependencies"]["studies"])
-    for module in ("matplotlib", "scipy", "dask", "tqdm"):
-        assert module in extra, f"the studies import {module}, which the 'studies' extra does not declare"
