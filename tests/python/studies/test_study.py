@@ -75,6 +75,7 @@ def test_the_soft_fluid_scenes_run_the_papers_other_methods_with_their_schemes()
             assert integrator.getScheme() == method
 
 
+@pytest.mark.gpu
 def test_the_opencl_methods_run_on_opencl_in_double_and_measure_openmms_gpu_update():
     # The GPU issue's accuracy half: OpenMM's own DPDIntegrator on OpenCL (its simultaneous O update)
     # beside its Reference sweep at gamma = 4.5, 40.5 and 450, and our ABOBA on OpenCL beside the CPU's.
