@@ -81,22 +81,22 @@ REPORT ?= demo-output
 # about 10 minutes on 2 cores) with its report in $(REPORT)/.
 demo: build
 	$(PYTHON) examples/demo.py
-	$(PYTHON) -m openmmdpd.study $(SCENES) --budget $(BUDGET) --out $(REPORT)
+	$(PYTHON) -m openmmdpd_studies.efficiency $(SCENES) --budget $(BUDGET) --out $(REPORT)
 
 # The paper's full protocol (1000 time units, 10 runs, 15% step-size increments): days on 2 cores.
 study-full: build
-	$(PYTHON) -m openmmdpd.study $(SCENES) --budget full --out study-full
+	$(PYTHON) -m openmmdpd_studies.efficiency $(SCENES) --budget full --out study-full
 
 # The paper's claims about its other methods (BAOAB, BAOOAB, S1-OU; Shang 2021 sec. 2.3 and after Figure 4):
 # the claims table with error bars and verdicts in claims-report/report.md; about 15-20 minutes on 2 cores.
 claims: build
-	$(PYTHON) -m openmmdpd.study examples/scenes/soft_fluid_gamma4.5.toml examples/scenes/soft_fluid_gamma200.toml \
+	$(PYTHON) -m openmmdpd_studies.efficiency examples/scenes/soft_fluid_gamma4.5.toml examples/scenes/soft_fluid_gamma200.toml \
 		examples/scenes/soft_fluid_gamma450.toml --budget claims --methods ABOBA BAOAB BAOOAB S1 S1-OU --workers 2 --out claims-report
 
 # The transport study (NEMD and matched Norton, friction and system-size scans): about 9 minutes on 2 cores
 # at the reduced budget.
 transport: build
-	$(PYTHON) -m openmmdpd.transport examples/scenes/transport_lj_fluid.toml --budget $(BUDGET) --out transport-report
+	$(PYTHON) -m openmmdpd_studies.transport examples/scenes/transport_lj_fluid.toml --budget $(BUDGET) --out transport-report
 
 bench: build
 	$(PYTHON) benchmarks/bench.py --out benchmarks/bench-results.md
