@@ -16,15 +16,18 @@ deps:
 	@bash tools/install-dependencies.sh
 
 # Builds (incrementally, in $(BUILD), with the C++ tests and examples) and installs openmmdpd into
-# $(PYTHON)'s environment with pip, against the OpenMM that environment has.  Every make reinstalls
-# it from this tree, so the installed copy is never older than the sources.
+# $(PYTHON)'s environment with pip, against the OpenMM that environment has, then the studies
+# (openmmdpd_studies, pure Python, from studies/).  Every make reinstalls both from this tree, so the
+# installed copies are never older than the sources.
 build: deps
-	@echo "Building and installing openmmdpd into $$($(PYTHON) -c 'import sys; print(sys.prefix)') (log: $(BUILD).install.log)"
+	@echo "Building and installing openmmdpd and openmmdpd-studies into $$($(PYTHON) -c 'import sys; print(sys.prefix)') (log: $(BUILD).install.log)"
 	@$(PYTHON) -m pip install --no-deps --no-build-isolation --force-reinstall --no-index -v . \
 		-Cbuild-dir=$(BUILD) \
 		-Ccmake.define.OPENMMDPD_BUILD_TESTS=ON -Ccmake.define.OPENMMDPD_BUILD_EXAMPLES=ON \
 		> $(BUILD).install.log 2>&1 || (tail -n 60 $(BUILD).install.log; exit 1)
-	@cd / && $(PYTHON) -c "import openmmdpd; print('Installed', openmmdpd.__file__)"
+	@$(PYTHON) -m pip install --no-deps --no-build-isolation --force-reinstall --no-index -v ./studies \
+		>> $(BUILD).install.log 2>&1 || (tail -n 60 $(BUILD).install.log; exit 1)
+	@cd / && $(PYTHON) -c "import openmmdpd, openmmdpd_studies; print('Installed', openmmdpd.__file__, 'and', openmmdpd_studies.__file__)"
 
 install: build
 
@@ -78,22 +81,22 @@ REPORT ?= demo-output
 # about 10 minutes on 2 cores) with its report in $(REPORT)/.
 demo: build
 	$(PYTHON) examples/demo.py
-	$(PYTHON) -m openmmdpd.study $(SCENES) --budget $(BUDGET) --out $(REPORT)
+	$(PYTHON) -m openmmdpd_studies.efficiency $(SCENES) --budget $(BUDGET) --out $(REPORT)
 
 # The paper's full protocol (1000 time units, 10 runs, 15% step-size increments): days on 2 cores.
 study-full: build
-	$(PYTHON) -m openmmdpd.study $(SCENES) --budget full --out study-full
+	$(PYTHON) -m openmmdpd_studies.efficiency $(SCENES) --budget full --out study-full
 
 # The paper's claims about its other methods (BAOAB, BAOOAB, S1-OU; Shang 2021 sec. 2.3 and after Figure 4):
 # the claims table with error bars and verdicts in claims-report/report.md; about 15-20 minutes on 2 cores.
 claims: build
-	$(PYTHON) -m openmmdpd.study examples/scenes/soft_fluid_gamma4.5.toml examples/scenes/soft_fluid_gamma200.toml \
+	$(PYTHON) -m openmmdpd_studies.efficiency examples/scenes/soft_fluid_gamma4.5.toml examples/scenes/soft_fluid_gamma200.toml \
 		examples/scenes/soft_fluid_gamma450.toml --budget claims --methods ABOBA BAOAB BAOOAB S1 S1-OU --workers 2 --out claims-report
 
 # The transport study (NEMD and matched Norton, friction and system-size scans): about 9 minutes on 2 cores
 # at the reduced budget.
 transport: build
-	$(PYTHON) -m openmmdpd.transport examples/scenes/transport_lj_fluid.toml --budget $(BUDGET) --out transport-report
+	$(PYTHON) -m openmmdpd_studies.transport examples/scenes/transport_lj_fluid.toml --budget $(BUDGET) --out transport-report
 
 bench: build
 	$(PYTHON) benchmarks/bench.py --out benchmarks/bench-results.md

@@ -12,7 +12,7 @@ every configuration once, in a fixed order, and the table gives the median over 
 machine slows every method alike; the load average before each round is printed.
 
 Efficiency (critical step size / time per step) uses the critical step sizes the efficiency study
-measured for the soft fluid at gamma = 4.5 (python -m openmmdpd.study examples/scenes/soft_fluid_gamma4.5.toml):
+measured for the soft fluid at gamma = 4.5 (python -m openmmdpd_studies.efficiency examples/scenes/soft_fluid_gamma4.5.toml):
 ABOBA 0.122, VV 0.049.  LAMMPS' pair dpd + fix nve is the same velocity Verlet as our VV, so it has VV's
 critical step size.
 

@@ -54,7 +54,7 @@ def make_context(method: str, n: int, platform_name: str):
     import openmm as mm
 
     import openmmdpd as dpd
-    from openmmdpd.study.scene import replace_with_custom_soft_force
+    from openmmdpd_studies.efficiency.scene import replace_with_custom_soft_force
 
     system, positions = dpd.soft_fluid(n, 3.0, seed=1)
     if method == "OpenMM-DPD":

@@ -24,7 +24,7 @@ import openmm as mm
 import openmm.unit as unit
 
 import openmmdpd as dpd
-from openmmdpd.study.scene import replace_with_custom_soft_force
+from openmmdpd_studies.efficiency.scene import replace_with_custom_soft_force
 
 method, n, threads, steps = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 system, positions = dpd.soft_fluid(n, 3.0, seed=1)

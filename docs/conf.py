@@ -1,5 +1,5 @@
-"""Sphinx configuration.  The Python API comes from the docstrings of the INSTALLED openmmdpd package
-(autodoc imports it; nothing is built or installed here), the C++ API from the public headers through
+"""Sphinx configuration.  The Python API comes from the docstrings of the INSTALLED packages openmmdpd and
+openmmdpd_studies (autodoc imports them; nothing is built or installed here), the C++ API from the public headers through
 Doxygen's XML and Breathe.  `make docs` runs Doxygen into $(BUILD)/docs/doxygen and passes its XML
 folder in OPENMMDPD_DOXYGEN_XML; without it (a plain `python -m sphinx docs OUT`), Doxygen is run here
 into a temporary folder."""
@@ -13,9 +13,10 @@ import tempfile
 
 try:
     import openmmdpd
-except ImportError as error:  # the docs describe an installed package: say how to get one
-    sys.exit(f"docs/conf.py: cannot import openmmdpd ({error}); the documentation is made from the installed "
-             "package: run `make` (or `pip install .`) first")
+    import openmmdpd_studies  # noqa: F401
+except ImportError as error:  # the docs describe installed packages: say how to get them
+    sys.exit(f"docs/conf.py: cannot import {error.name} ({error}); the documentation is made from the installed "
+             "packages: run `make` (or `pip install .` and `pip install ./studies`) first")
 
 _REPOSITORY = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 

@@ -16,7 +16,7 @@ import numpy as np
 import openmm as mm
 
 import openmmdpd as dpd
-from openmmdpd.study.sweep import interleaved_seconds_per_step
+from openmmdpd_studies.efficiency.sweep import interleaved_seconds_per_step
 
 FRICTION = 4.5
 STEP_SIZE = 0.05

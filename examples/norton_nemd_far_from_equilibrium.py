@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from openmmdpd.transport.estimators import nemd_coefficient, norton_coefficient
-from openmmdpd.transport.runner import RunLength, Task, run_task
-from openmmdpd.transport.scene import load_transport_scene
+from openmmdpd_studies.transport.estimators import nemd_coefficient, norton_coefficient
+from openmmdpd_studies.transport.runner import RunLength, Task, run_task
+from openmmdpd_studies.transport.scene import load_transport_scene
 
 SCENE = Path(__file__).resolve().parent / "scenes" / "transport_lj_fluid.toml"
 

@@ -25,7 +25,7 @@ import numpy as np
 import openmm as mm
 
 import openmmdpd as dpd
-from openmmdpd.study.statistics import block_standard_error
+from openmmdpd_studies.efficiency.statistics import block_standard_error
 
 FRICTION, SHEAR_RATE, CUTOFF, REPULSION = 450.0, 0.2, 1.0, 25.0
 

@@ -35,8 +35,8 @@ import openmm as mm
 
 import openmmdpd as dpd
 from openmmdpd.shear import sample_shear, shear_viscosity
-from openmmdpd.study.statistics import block_standard_error
-from openmmdpd.transport.estimators import extrapolate_k_squared, nemd_coefficient, viscosity
+from openmmdpd_studies.efficiency.statistics import block_standard_error
+from openmmdpd_studies.transport.estimators import extrapolate_k_squared, nemd_coefficient, viscosity
 
 DENSITY, REPULSION, CUTOFF = 3.0, 25.0, 1.0
 

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # `pip install .` in a fresh virtual environment that has nothing but PyPI's OpenMM: the isolated
 # build fetches scikit-build-core, nanobind and OpenMM's headers (the openmm wheel), compiles the
-# plugin, and the package imports and runs a few steps from outside the clone; then C++ programs are
-# built against that package with find_package(OpenMMDPD) and run (tools/check-cpp-install.sh).
+# plugin, and the package imports and runs a few steps from outside the clone, without any of the
+# studies' dependencies; then `pip install ./studies` brings the studies (openmmdpd_studies) and their
+# dependencies from PyPI, and their command lines start; then C++ programs are built against the
+# package with find_package(OpenMMDPD) and run (tools/check-cpp-install.sh).
 # Usage: tools/check-fresh-venv.sh [OPENMM_REQUIREMENT]   (default: openmm>=8.3)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,5 +27,11 @@ integrator.step(100)
 print(f"fresh venv: OpenMM {openmm.__version__}, openmmdpd from {dpd.__file__}, "
       f"T_conf/T = {dpd.configurational_temperature(context) / dpd.REDUCED_TEMPERATURE:.3f}")
 PY
+cd "$repository"
+"$scratch/venv/bin/python" -m pip install -q ./studies
+cd "$scratch"
+"$scratch/venv/bin/python" -m openmmdpd_studies.efficiency --help > /dev/null
+"$scratch/venv/bin/python" -m openmmdpd_studies.transport --help > /dev/null
+"$scratch/venv/bin/python" -c "import openmmdpd_studies; print('fresh venv: openmmdpd_studies from', openmmdpd_studies.__file__)"
 cd "$repository"
 PYTHON="$scratch/venv/bin/python" bash tools/check-cpp-install.sh

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The package as a user gets it after `make`: imported from a folder outside the clone, with the
-# README's first Python example run there as a script.
+# The packages as a user gets them after `make`: openmmdpd and openmmdpd_studies imported from a folder
+# outside the clone, and the README's first Python example run there as a script.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repository=$(pwd)
@@ -14,6 +14,8 @@ example = re.search(r"```python\n(.*?)```", text, re.S).group(1)
 open(sys.argv[2], "w").write(example)
 PY
 cd "$outside"
-"$PYTHON" -c "import openmmdpd, os; assert not openmmdpd.__file__.startswith('$repository/'), openmmdpd.__file__; print('import openmmdpd:', openmmdpd.__file__)"
+for package in openmmdpd openmmdpd_studies; do
+    "$PYTHON" -c "import $package; assert not $package.__file__.startswith('$repository/'), $package.__file__; print('import $package:', $package.__file__)"
+done
 echo "README example, run from $outside:"
 "$PYTHON" readme_example.py

@@ -1,10 +1,34 @@
 """Shared fixtures.  The package under test is the INSTALLED one (make pip-installs it into the
 environment that runs pytest); test_installed_package.py checks that it is this tree's."""
 
+import importlib.util
+from pathlib import Path
+
 import openmm as mm
 import pytest
 
 import openmmdpd as dpd
+
+STUDIES = Path(__file__).resolve().parent / "studies"
+# Where only the library is installed (pip install openmmdpd, without ./studies), the studies' tests are
+# left out, and the report's header says so; make installs both.  A studies package that is there but
+# fails to import still fails the run.
+STUDIES_INSTALLED = importlib.util.find_spec("openmmdpd_studies") is not None
+collect_ignore = [] if STUDIES_INSTALLED else ["studies"]
+
+
+def pytest_report_header() -> list:
+    return [] if STUDIES_INSTALLED else ["openmmdpd_studies is not installed: tests/python/studies left out"]
+
+
+@pytest.hookimpl(tryfirst=True)  # before -m selects by marker
+def pytest_collection_modifyitems(items) -> None:
+    """Every test under tests/python/studies tests the studies: the marker ``studies``, so that
+    ``-m "not studies"`` runs the library's tests alone.  (A conftest.py of its own in that folder would
+    shadow this one for ``from conftest import ...``: both import as the module ``conftest``.)"""
+    for item in items:
+        if STUDIES in Path(item.path).resolve().parents:
+            item.add_marker(pytest.mark.studies)
 
 
 @pytest.fixture(params=["Reference", "CPU"])

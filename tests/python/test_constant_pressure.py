@@ -24,9 +24,12 @@ STEP = 0.04
 PRESSURE_UNIT = unit.kilojoule_per_mole / unit.nanometer**3 / unit.AVOGADRO_CONSTANT_NA
 
 
-def gpu_platform_names():
+def gpu_params(*values):
+    """The parameters (name, *values) of the GPU platform, OPENMMDPD_GPU_PLATFORM or OpenCL, marked
+    ``gpu``, where OpenMM has that platform; none where it has not."""
     name = os.environ.get("OPENMMDPD_GPU_PLATFORM") or "OpenCL"
-    return [name] if name in [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())] else []
+    present = name in [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
+    return [pytest.param(name, *values, marks=pytest.mark.gpu)] if present else []
 
 
 def block_mean(samples, blocks=20):
@@ -97,14 +100,14 @@ def test_every_scheme_on_the_cpu_holds_the_density_of_its_pressure(scheme):
 
 
 @pytest.mark.parametrize("platform_name, scheme", [("Reference", "ABOBA"), ("Reference", "BAOOAB")] +
-                         [(name, "ABOBA") for name in gpu_platform_names()])
+                         gpu_params("ABOBA"))
 def test_reference_and_gpu_hold_the_density_of_the_pressure(platform_name, scheme):
     # pocl (the CPU as an OpenCL device) takes ~3 ms a step here: a shorter run, still within the resolution asserted.
     gpu = platform_name not in ("Reference", "CPU")
     assert_density_of_the_pressure(platform_name, scheme, nvt_samples=120 if gpu else 200, npt_samples=160 if gpu else 240)
 
 
-@pytest.mark.parametrize("platform_name", ["CPU"] + gpu_platform_names())
+@pytest.mark.parametrize("platform_name", ["CPU"] + gpu_params())
 def test_sheared_npt_with_stress_holds_the_pressure_in_the_stress_tensor(platform_name):
     """Under Lees-Edwards shear (rate 0.2) with stress accumulation, the barostat still holds the
     pressure: -tr(sigma)/3 of the integrator's stress tensor (kinetic, conservative, dissipative and

@@ -198,6 +198,7 @@ def test_every_input_ends_in_a_clean_exception_or_a_finite_state(scenario):
     end_in_a_clean_exception_or_a_finite_state(run_scenario, scenario)
 
 
+@pytest.mark.gpu
 @pytest.mark.skipif(not HAS_GPU_PLATFORM, reason=f"OpenMM has no {GPU_PLATFORM} platform here")
 @settings(max_examples=GPU_EXAMPLES, derandomize=True, database=None, deadline=None, suppress_health_check=list(HealthCheck))
 @given(scenarios(platforms=(GPU_PLATFORM,)))
@@ -365,6 +366,7 @@ def test_shear_stress_norton_and_the_reporter_end_in_a_clean_exception_or_a_fini
     end_in_a_clean_exception_or_a_finite_state(run_sheared_scenario, scenario, message_required=True)
 
 
+@pytest.mark.gpu
 @pytest.mark.skipif(not HAS_GPU_PLATFORM, reason=f"OpenMM has no {GPU_PLATFORM} platform here")
 @settings(max_examples=GPU_EXAMPLES, derandomize=True, database=None, deadline=None, suppress_health_check=list(HealthCheck))
 @given(sheared_scenarios(platforms=(GPU_PLATFORM,)))

@@ -37,6 +37,7 @@ def test_critical_path_is_the_slowest_work_group_summed_over_the_colours():
     assert two.pairs == 4 * 39
 
 
+@pytest.mark.gpu
 def test_the_profile_of_a_real_sweep_has_far_fewer_rounds_than_pairs():
     names = [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
     if "OpenCL" not in names:

@@ -14,6 +14,8 @@ import pytest
 import openmmdpd as dpd
 from openmmdpd import _plugin
 
+pytestmark = pytest.mark.gpu
+
 
 @pytest.fixture(scope="module")
 def opencl() -> mm.Platform:

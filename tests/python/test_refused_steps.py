@@ -20,10 +20,11 @@ N = 300  # box 4.64 nm at density 3: at least 3 cutoffs of 1 nm, as the GPU plat
 
 
 def platform_names():
+    """Reference, CPU and the GPU platform where OpenMM has it (marked ``gpu``)."""
     names = ["Reference", "CPU"]
     gpu = os.environ.get("OPENMMDPD_GPU_PLATFORM") or "OpenCL"
     if gpu in [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]:
-        names.append(gpu)
+        names.append(pytest.param(gpu, marks=pytest.mark.gpu))
     return names
 
 

@@ -9,7 +9,7 @@ from typing import Sequence
 import numpy as np
 from scipy import stats
 
-from .._statistics import block_standard_error
+from openmmdpd._statistics import block_standard_error
 
 
 @dataclass

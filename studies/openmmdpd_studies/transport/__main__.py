@@ -1,4 +1,4 @@
-"""python -m openmmdpd.transport SCENE.toml --budget reduced --out DIR [--workers N | --scheduler ADDRESS]
+"""python -m openmmdpd_studies.transport SCENE.toml --budget reduced --out DIR [--workers N | --scheduler ADDRESS]
 
 The runs go to a Dask cluster and are saved in DIR/runs/BUDGET/ as they finish; the same command
 again skips what is done.  Two stages: first every NEMD and equilibrium run, then the Norton runs
@@ -36,7 +36,7 @@ def _runs(scene: TransportScene, budget_name: str, tasks: List[Task], strengths:
 
 
 def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m openmmdpd.transport", description=__doc__)
+    parser = argparse.ArgumentParser(prog="python -m openmmdpd_studies.transport", description=__doc__)
     parser.add_argument("scene", type=Path)
     parser.add_argument("--budget", default="reduced")
     parser.add_argument("--out", type=Path, default=Path("transport-report"))
@@ -58,7 +58,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         responses = matched_responses(second, {r.task: r for r in stage1})
         stage2 = run_resumable(client, _runs(scene, args.budget, second, responses, args.seed),
                                folder, encode_result, decode_result, "transport runs (Norton, matched)")
-    command = "python -m openmmdpd.transport " + " ".join(sys.argv[1:] if argv is None else argv)
+    command = "python -m openmmdpd_studies.transport " + " ".join(sys.argv[1:] if argv is None else argv)
     report = write_report(args.out, scene, args.budget, budget, stage1 + stage2, time.perf_counter() - start, command)
     print(report.read_text())
     return 0

@@ -4,7 +4,7 @@ nu(k) = nu0 + c k^2 by weighted least squares, checked on synthetic data with kn
 import numpy as np
 import pytest
 
-from openmmdpd.transport.estimators import extrapolate_k_squared
+from openmmdpd_studies.transport.estimators import extrapolate_k_squared
 
 
 def test_exact_data_gives_the_line_and_the_textbook_error():

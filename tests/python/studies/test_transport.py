@@ -6,17 +6,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from openmmdpd.transport import mobility_from_msd, nemd_coefficient, norton_coefficient
-from openmmdpd.transport.__main__ import decode_result, encode_result, main
-from openmmdpd.transport.estimators import viscosity
-from openmmdpd.transport.plan import is_matched_norton, matched_responses, run_length, run_name, seed_of, tasks_of
-from openmmdpd.transport.points import weighted_power_law
-from openmmdpd.transport.runner import SeriesSummary, Task, TaskResult, autocorrelation, colour_drift_response, run_task
-from openmmdpd.transport.scene import load_transport_scene
+from openmmdpd_studies.transport import mobility_from_msd, nemd_coefficient, norton_coefficient
+from openmmdpd_studies.transport.__main__ import decode_result, encode_result, main
+from openmmdpd_studies.transport.estimators import viscosity
+from openmmdpd_studies.transport.plan import is_matched_norton, matched_responses, run_length, run_name, seed_of, tasks_of
+from openmmdpd_studies.transport.points import weighted_power_law
+from openmmdpd_studies.transport.runner import SeriesSummary, Task, TaskResult, autocorrelation, colour_drift_response, run_task
+from openmmdpd_studies.transport.scene import load_transport_scene
 
 from conftest import edited_scene
 
-SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "transport_lj_fluid.toml"
+SCENE = Path(__file__).resolve().parents[3] / "examples" / "scenes" / "transport_lj_fluid.toml"
 
 
 def test_nemd_and_norton_estimators_invert_a_linear_response():
@@ -158,7 +158,7 @@ def test_colour_drift_response_is_the_integrators():
 
 
 def test_a_norton_run_holds_its_response_and_a_nemd_run_reports_its_forcing():
-    from openmmdpd.transport.runner import RunLength
+    from openmmdpd_studies.transport.runner import RunLength
 
     scene = load_transport_scene(SCENE)
     length = RunLength(time=0.2, equilibration=0.05, block_time=0.05)

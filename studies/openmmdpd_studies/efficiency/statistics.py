@@ -6,7 +6,7 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from .._statistics import block_standard_error  # the library's: the studies build on it, not the reverse
+from openmmdpd._statistics import block_standard_error  # the library's: the studies build on it, not the reverse
 
 
 def configurational_relative_error(runs: Sequence[Tuple[np.ndarray, np.ndarray]]) -> Tuple[float, float]:

@@ -1,5 +1,5 @@
-"""The claims table of the efficiency study (openmmdpd.study.claims; Shang 2021 sec. 2.3 and after Figure 4)
-on synthetic summaries whose answers are known, and once through the command line."""
+"""The claims table of the efficiency study (openmmdpd_studies.efficiency.claims; Shang 2021 sec. 2.3 and
+after Figure 4) on synthetic summaries whose answers are known, and once through the command line."""
 
 import json
 import math
@@ -10,12 +10,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from openmmdpd.study.claims import (FAILS, HOLDS, UNRESOLVED, cost_ratio, critical_ratio, crossover_level,
+from openmmdpd_studies.efficiency.claims import (FAILS, HOLDS, UNRESOLVED, cost_ratio, critical_ratio, crossover_level,
                                     efficiency_ratio, error_differences, interval_verdict, order_fit, paper_claims,
                                     rdf_differences, step_size_at)
-from openmmdpd.study.scene import load_scene
+from openmmdpd_studies.efficiency.scene import load_scene
 
-SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+SCENES = Path(__file__).resolve().parents[3] / "examples" / "scenes"
 STEPS = 0.01 * 1.25 ** np.arange(13)
 
 
@@ -174,7 +174,7 @@ def test_rdf_difference_sees_a_shift_larger_than_the_tolerance_only():
 
 
 def test_methods_option_rejects_unknown_names_and_lists_the_allowed_ones(capsys):
-    from openmmdpd.study.__main__ import main
+    from openmmdpd_studies.efficiency.__main__ import main
 
     with pytest.raises(SystemExit):
         main([str(SCENES / "soft_fluid_gamma450.toml"), "--methods", "ABOBA", "BAOBAB"])
@@ -219,7 +219,7 @@ def test_a_tiny_study_through_the_command_line_writes_the_claims_table(tmp_path)
     scene = tmp_path / "tiny_claims.toml"
     scene.write_text(TINY_SCENE)
     out = tmp_path / "report"
-    subprocess.run([sys.executable, "-m", "openmmdpd.study", str(scene), "--budget", "tiny", "--out", str(out),
+    subprocess.run([sys.executable, "-m", "openmmdpd_studies.efficiency", str(scene), "--budget", "tiny", "--out", str(out),
                     "--workers", "1", "--methods", "ABOBA", "BAOAB", "BAOOAB"], check=True, capture_output=True, timeout=120)
     results = json.loads((out / "results.json").read_text())
     assert set(results["scenes"][0]["methods"]) == {"ABOBA", "BAOAB", "BAOOAB"}  # VV left out by --methods

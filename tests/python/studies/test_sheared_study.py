@@ -7,15 +7,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from openmmdpd.study import load_scene
-from openmmdpd.study.report import summarize, write_report
-from openmmdpd.study.shear_report import add_viscosity_errors, relative_to_reference, viscosity_of_runs
-from openmmdpd.study.statistics import critical_step_size_range
-from openmmdpd.study.sweep import run_one
+from openmmdpd_studies.efficiency import load_scene
+from openmmdpd_studies.efficiency.report import summarize, write_report
+from openmmdpd_studies.efficiency.shear_report import add_viscosity_errors, relative_to_reference, viscosity_of_runs
+from openmmdpd_studies.efficiency.statistics import critical_step_size_range
+from openmmdpd_studies.efficiency.sweep import run_one
 
 from conftest import edited_scene
 
-SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "sheared_soft_fluid_gamma450.toml"
+SCENE = Path(__file__).resolve().parents[3] / "examples" / "scenes" / "sheared_soft_fluid_gamma450.toml"
 
 
 def test_sheared_scene_loads_with_the_papers_parameters_and_values():

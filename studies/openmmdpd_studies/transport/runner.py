@@ -13,7 +13,7 @@ import openmm as mm
 
 import openmmdpd as dpd
 
-from .._statistics import block_standard_error
+from openmmdpd._statistics import block_standard_error
 from .scene import FluidSettings, make_profile
 
 #: Longest lag of the autocorrelation functions kept, in time units (the correlation times of R and

@@ -1,4 +1,4 @@
-"""python -m openmmdpd.study SCENE.toml [SCENE.toml ...] --budget reduced --out DIR [--methods M ...] [--workers N | --scheduler ADDRESS]
+"""python -m openmmdpd_studies.efficiency SCENE.toml [SCENE.toml ...] --budget reduced --out DIR [--methods M ...] [--workers N | --scheduler ADDRESS]
 
 The step-size sweeps run on a Dask cluster and are saved in DIR/runs/ as they finish; the same command
 again skips what is done.  The time per step of each method is measured first, serially, in this
@@ -59,7 +59,7 @@ def decode_sweep(data: List[dict]) -> List[RunResult]:
 
 
 def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m openmmdpd.study", description=__doc__)
+    parser = argparse.ArgumentParser(prog="python -m openmmdpd_studies.efficiency", description=__doc__)
     parser.add_argument("scenes", nargs="+", type=Path, help="scene files (TOML), e.g. examples/scenes/*.toml")
     parser.add_argument("--budget", default="reduced", help="a budget named in the scene files (reduced, full)")
     parser.add_argument("--out", type=Path, default=Path("study-report"), help="report folder")
@@ -89,7 +89,7 @@ def main(argv: Optional[List[str]] = None) -> int:
 
     summaries = [summarize(scene, results[scene.name], timings[scene.name]["seconds_per_step"],
                            timings[scene.name]["seconds_per_step_rounds"]) for scene in scenes]
-    command = "python -m openmmdpd.study " + " ".join(sys.argv[1:] if argv is None else argv)
+    command = "python -m openmmdpd_studies.efficiency " + " ".join(sys.argv[1:] if argv is None else argv)
     report = write_report(args.out, scenes, summaries, args.budget, 1, time.perf_counter() - start, command,
                           workers=args.scheduler or args.workers)
     for summary in summaries:

@@ -12,8 +12,8 @@ from pathlib import Path
 import openmm
 import pytest
 
-from openmmdpd.resumable_runs import fingerprint, run_resumable
-from openmmdpd.study.scene import METHOD_DESCRIPTIONS
+from openmmdpd_studies.efficiency.scene import METHOD_DESCRIPTIONS
+from openmmdpd_studies.resumable_runs import code_files, fingerprint, run_resumable
 
 SCENE = Path(__file__).resolve().parent / "data" / "tiny_soft_fluid.toml"
 RUNS = 2 * 4  # methods x runs in the scene's "tiny" budget
@@ -22,7 +22,7 @@ TIMING_FIELDS = ("seconds_per_step", "seconds_per_step_rounds", "efficiency", "s
 
 
 def study(out: Path, workers: int) -> list:
-    return [sys.executable, "-m", "openmmdpd.study", str(SCENE), "--budget", "tiny", "--out", str(out),
+    return [sys.executable, "-m", "openmmdpd_studies.efficiency", str(SCENE), "--budget", "tiny", "--out", str(out),
             "--workers", str(workers)]
 
 
@@ -85,8 +85,17 @@ def test_a_saved_run_is_reused_only_for_the_same_arguments(tmp_path):
 
 
 def test_bad_worker_counts_are_refused():
-    from openmmdpd.resumable_runs import dask_client
+    from openmmdpd_studies.resumable_runs import dask_client
 
     with pytest.raises(ValueError, match=r"workers = 0 is out of range; it must be an integer >= 1"):
         with dask_client(0):
             pass
+
+
+def test_the_code_digest_covers_the_library_and_the_studies():
+    # A saved run is reused only by the same code: the library's (its Python and compiled plugin) as well as
+    # the studies', which are another installed package since the split.
+    names = {name for name, _ in code_files()}
+    assert {"openmmdpd/_dpd_integrator.py", "openmmdpd/libOpenMMDPDCPU.so",
+            "openmmdpd_studies/resumable_runs.py", "openmmdpd_studies/efficiency/sweep.py"} <= names
+    assert any(name.startswith("openmmdpd/_openmmdpd.") and name.endswith(".so") for name in names)

@@ -1,4 +1,4 @@
-"""The efficiency study's statistics, scene files and the LJ scene."""
+"""The efficiency study's statistics and scene files."""
 
 from pathlib import Path
 
@@ -7,11 +7,11 @@ import openmm as mm
 import pytest
 
 import openmmdpd as dpd
-from openmmdpd.study import load_scene
-from openmmdpd.study.statistics import block_standard_error, configurational_relative_error, critical_step_size
+from openmmdpd_studies.efficiency import load_scene
+from openmmdpd_studies.efficiency.statistics import block_standard_error, configurational_relative_error, critical_step_size
 
 # The efficiency-study scenes (transport scenes have their own format and test).
-SCENES = sorted(p for p in (Path(__file__).resolve().parents[2] / "examples" / "scenes").glob("*.toml")
+SCENES = sorted(p for p in (Path(__file__).resolve().parents[3] / "examples" / "scenes").glob("*.toml")
                 if not p.name.startswith("transport_"))
 
 
@@ -75,11 +75,12 @@ def test_the_soft_fluid_scenes_run_the_papers_other_methods_with_their_schemes()
             assert integrator.getScheme() == method
 
 
+@pytest.mark.gpu
 def test_the_opencl_methods_run_on_opencl_in_double_and_measure_openmms_gpu_update():
     # The GPU issue's accuracy half: OpenMM's own DPDIntegrator on OpenCL (its simultaneous O update)
     # beside its Reference sweep at gamma = 4.5, 40.5 and 450, and our ABOBA on OpenCL beside the CPU's.
-    from openmmdpd.study.scene import OPENCL_METHODS
-    from openmmdpd.study.sweep import method_platform
+    from openmmdpd_studies.efficiency.scene import OPENCL_METHODS
+    from openmmdpd_studies.efficiency.sweep import method_platform
     for method in OPENCL_METHODS:
         platform, properties = method_platform(method, 1)
         assert platform.getName() == "OpenCL" and properties == {"Precision": "double"}
@@ -92,45 +93,3 @@ def test_the_opencl_methods_run_on_opencl_in_double_and_measure_openmms_gpu_upda
             assert isinstance(scene.integrator("OpenMM-DPD-OpenCL", 0.02, seed=1), mm.DPDIntegrator)
             assert dpd.DPDIntegrator.cast(scene.integrator("ABOBA-OpenCL", 0.02, seed=1)).getScheme() == "ABOBA"
     assert frictions == {4.5, 40.5, 450.0}
-
-
-def test_lj_fluid_is_c1_truncated_and_on_a_lattice():
-    system, positions = dpd.lj_fluid(num_particles=500, density=0.85, cutoff=2.5)
-    box = system.getDefaultPeriodicBoxVectors()[0][0].value_in_unit(mm.unit.nanometer)
-    assert box == pytest.approx((500 / 0.85) ** (1 / 3))
-    # Two particles alone: the pair force and energy vanish continuously at the cutoff (eq. 73).
-    pair = mm.System()
-    pair.setDefaultPeriodicBoxVectors(*system.getDefaultPeriodicBoxVectors())
-    pair.addParticle(1.0)
-    pair.addParticle(1.0)
-    force = system.getForce(0)
-    lj = mm.CustomNonbondedForce(force.getEnergyFunction())
-    for k in range(force.getNumGlobalParameters()):
-        lj.addGlobalParameter(force.getGlobalParameterName(k), force.getGlobalParameterDefaultValue(k))
-    lj.setNonbondedMethod(mm.CustomNonbondedForce.CutoffPeriodic)
-    lj.setCutoffDistance(2.5)
-    lj.addParticle([])
-    lj.addParticle([])
-    pair.addForce(lj)
-    context = mm.Context(pair, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName("Reference"))
-    for r, energy_limit, force_limit in ((2.5 - 1e-6, 1e-10, 1e-5), (1.12246, None, None)):
-        context.setPositions([mm.Vec3(0, 0, 0), mm.Vec3(r, 0, 0)])
-        state = context.getState(getEnergy=True, getForces=True)
-        energy = state.getPotentialEnergy().value_in_unit(mm.unit.kilojoule_per_mole)
-        f = state.getForces(asNumpy=True).value_in_unit(mm.unit.kilojoule_per_mole / mm.unit.nanometer)[0, 0]
-        if energy_limit is not None:
-            assert abs(energy) < energy_limit and abs(f) < force_limit
-        else:
-            assert energy < -0.9  # near the LJ minimum, shifted by the truncation terms
-    spacing = np.diff(np.unique(np.round(positions.value_in_unit(mm.unit.nanometer)[:, 0], 9)))
-    assert np.allclose(spacing, box / 8)
-
-
-def test_radial_distribution_of_an_ideal_gas_is_one():
-    system, positions = dpd.soft_fluid(num_particles=400, density=3.0, seed=8)  # uniform random: ideal gas
-    context = mm.Context(system, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName("Reference"))
-    context.setPositions(positions)
-    histogram = dpd.pair_distance_histogram(context, 2.0, 10)
-    r, g = dpd.radial_distribution(histogram, 2.0, 400, 400 / 3.0)
-    # Outer bins hold thousands of pairs: Poisson scatter of a few percent.
-    assert np.all(np.abs(g[3:] - 1) < 0.1)

@@ -5,7 +5,7 @@ bars, and a verdict by an explicit rule (:data:`VERDICT_RULES`).
 Every verdict is one of three words.  A claim *holds* when the measured one-standard-error (or two,
 where said) range lies inside the region the claim names, *does not hold* when the range lies outside
 it, and is *not resolved at this budget* when the range straddles the region's edge or the data are too
-few.  The numbers come from :func:`openmmdpd.study.report.summarize`'s per-scene summaries.
+few.  The numbers come from :func:`openmmdpd_studies.efficiency.report.summarize`'s per-scene summaries.
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ from typing import Dict, List, Sequence
 
 import numpy as np
 
-from ..study.report import machine_description
+from ..efficiency.report import machine_description
 from .curves import asymptotic_variance_table, matched_table, plot_asymptotic_variance, plot_response_curves
 from .plan import run_length
 from .points import estimate_points
