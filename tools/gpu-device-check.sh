@@ -56,7 +56,7 @@ timeout $(( bench_seconds + 60 )) python3 benchmarks/bench_gpu.py --max-seconds 
 tail -n 40 "$OUT/bench-gpu.md" 2>/dev/null || tail -n 20 "$OUT/bench.log"
 
 say "the GPU platform's C++ tests on $PLATFORM"
-OPENMMDPD_GPU_PLATFORM=$PLATFORM timeout "$(limit 120 70)" ctest --test-dir /tmp/build -R "OpenCL" -E "KernelFormulas" -j4 --output-on-failure \
+OPENMMDPD_GPU_PLATFORM=$PLATFORM timeout "$(limit 120 70)" ctest --test-dir /tmp/build -R "GPU" -E "KernelFormulas|CompileForCUDA" -j4 --output-on-failure \
     > "$OUT/ctest.log" 2>&1
 grep -E "tests passed|tests failed|\*\*\*|Failed" "$OUT/ctest.log" | head -20
 

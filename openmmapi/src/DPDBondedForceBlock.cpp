@@ -1,6 +1,7 @@
 // Compiled with -ffast-math (see CMakeLists.txt) so that GCC calls the vector math library for acos;
 // nothing here tests for NaN or infinity (zero lengths are replaced before they are divided by).
 #include "openmmdpd/internal/DPDBondedForceBlock.h"
+#include "openmmdpd/internal/DPDMinimumImageFormula.h"
 #include "openmmdpd/internal/DPDVectorInstructions.h"
 #include <cmath>
 
@@ -14,6 +15,7 @@ constexpr int B = DPDBondedForceBlock::blockSize;
 /** OpenMM's reduced box as plain numbers (a Vec3's operator[] is not inlined into the vectorised builds). */
 struct Box {
     double ax, bx, by, cx, cy, cz;
+    double inverseAx, inverseBy, inverseCz;
 };
 
 /** A block's terms: particle indices (padded), and x0 and k of harmonic terms (nullptr otherwise). */
@@ -36,8 +38,8 @@ struct Lanes {
 };
 
 /**
- * The side q_to - q_from, by the minimum image of the reduced box when `periodic` (the formula of
- * DPDPeriodicBox::minimumImage, inline so that it vectorises).
+ * The side q_to - q_from, by the minimum image of the reduced box when `periodic` (dpdMinimumImage,
+ * inline so that it vectorises).
  */
 template <bool periodic>
 inline __attribute__((always_inline)) void side(const double* __restrict q, int from, int to, const Box& box, double& dx, double& dy,
@@ -46,14 +48,11 @@ inline __attribute__((always_inline)) void side(const double* __restrict q, int 
     dy = q[3*to+1]-q[3*from+1];
     dz = q[3*to+2]-q[3*from+2];
     if (periodic) {
-        double shiftC = std::floor(dz/box.cz+0.5);
-        dx -= shiftC*box.cx;
-        dy -= shiftC*box.cy;
-        dz -= shiftC*box.cz;
-        double shiftB = std::floor(dy/box.by+0.5);
-        dx -= shiftB*box.bx;
-        dy -= shiftB*box.by;
-        dx -= std::floor(dx/box.ax+0.5)*box.ax;
+        DPDSeparation image = dpdMinimumImage(dx, dy, dz, box.ax, box.bx, box.by, box.cx, box.cy, box.cz, box.inverseAx, box.inverseBy,
+                                              box.inverseCz);
+        dx = image.x;
+        dy = image.y;
+        dz = image.z;
     }
 }
 
@@ -241,9 +240,9 @@ void DPDBondedForceBlock::padTerms(const std::vector<std::array<int, 4> >& parti
 
 void DPDBondedForceBlock::computeForces(const Vec3* positions, const Vec3* box, Vec3* slots, int beginBlock, int endBlock) const {
     Terms terms = {first.data(), middle.data(), last.data(), rest.data(), stiffness.data(), derivative, numTerms};
-    Box reduced = {1.0, 0.0, 1.0, 0.0, 0.0, 1.0}; // read only with periodic boundaries
+    Box reduced = {1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0}; // read only with periodic boundaries
     if (periodic)
-        reduced = {box[0][0], box[1][0], box[1][1], box[2][0], box[2][1], box[2][2]};
+        reduced = {box[0][0], box[1][0], box[1][1], box[2][0], box[2][1], box[2][2], 1.0/box[0][0], 1.0/box[1][1], 1.0/box[2][2]};
     const double* q = reinterpret_cast<const double*>(positions);
     passes[DPDVectorInstructions::level()][numParticlesPerTerm == 3][periodic](terms, q, reduced, slots, beginBlock, endBlock);
 }

@@ -1,6 +1,6 @@
 """The plugin on OpenMM's OpenCL platform (pocl on the CPU where there is no GPU: small systems, nothing
 timed), or on the platform OPENMMDPD_GPU_PLATFORM names (CUDA on a GPU machine): a user's script runs
-unchanged with ``Platform.getPlatformByName("OpenCL")``.  The C++ suite (tests/cpp/opencl) holds the
+unchanged with ``Platform.getPlatformByName("OpenCL")``.  The C++ suite (tests/cpp/gpu) holds the
 statistical and bit-level tests; these check the Python side of it."""
 
 import os

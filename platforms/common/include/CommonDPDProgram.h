@@ -40,6 +40,15 @@ public:
      * bit, for their test).
      */
     static bool sweepInRounds();
+    /**
+     * The second position array of every kernel that reads positions (DPD_POSITIONS in dpdCellGrid.cc):
+     * OpenMM's posqCorrection in mixed precision, which a kernel adds to posq; in single and double
+     * precision, where there is none, posq again, which the kernel never reads through it.  So each
+     * kernel is launched one way whatever the precision.
+     */
+    static OpenMM::ArrayInterface& positionCorrections(OpenMM::ComputeContext& cc) {
+        return cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
+    }
 };
 
 } // namespace OpenMMDPD

@@ -1,4 +1,5 @@
 #include "CommonDPDCellGrid.h"
+#include "CommonDPDProgram.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
@@ -91,10 +92,8 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
         cc.clearBuffer(cellCount); // once: from here on every scan leaves the counts it read at zero
     }
     int numAtoms = cc.getNumAtoms();
-    if (cc.getUseMixedPrecision())
-        locate.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
-    else
-        locate.run(numAtoms, -1, numAtoms, cc.getPosq(), boxSize, inverseBoxSize, layout.numCells, cellOf, cellCount);
+    locate.run(numAtoms, -1, numAtoms, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), boxSize, inverseBoxSize, layout.numCells,
+               cellOf, cellCount);
     int tilesInTurn = numTiles <= tilesOneWorkGroupScans ? 1 : 0; // one launch, not two
     if (!tilesInTurn)
         sumTiles.run(numTiles*scanSize, scanSize, numCells, cellCount, tileSum);

@@ -1,4 +1,5 @@
 #include "CommonDPDForcing.h"
+#include "CommonDPDProgram.h"
 #include "CommonDPDCellGrid.h"
 #include "openmm/common/ContextSelector.h"
 
@@ -77,13 +78,9 @@ void CommonDPDForcing::evaluateShearProfile(const DPDShearProfile& profile, bool
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     int needed = forcingDotResponseNeeded ? 1 : 0;
-    if (cc.getUseMixedPrecision())
-        shearProfileKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), cc.getAtomIndexArray(), deviceMasses,
-                               static_cast<int>(profile.getShape()), box[1][1], box[2][1], box[2][2], forcingField, responseField, needed,
-                               responseRows);
-    else
-        shearProfileKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getAtomIndexArray(), deviceMasses, static_cast<int>(profile.getShape()),
-                               box[1][1], box[2][1], box[2][2], forcingField, responseField, needed, responseRows);
+    shearProfileKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), cc.getAtomIndexArray(), deviceMasses,
+                           static_cast<int>(profile.getShape()), box[1][1], box[2][1], box[2][2], forcingField, responseField, needed,
+                           responseRows);
     if (forcingDotResponseNeeded)
         sumRows(responseRows, numAtoms, ForcingDotResponse);
     uploadedRevision = -1;              // the device's fields are no longer DPDForcingFields' ...

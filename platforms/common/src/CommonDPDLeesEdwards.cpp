@@ -1,4 +1,5 @@
 #include "CommonDPDLeesEdwards.h"
+#include "CommonDPDProgram.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
 #include "openmmdpd/DPDForce.h"
@@ -51,19 +52,12 @@ void CommonDPDLeesEdwards::wrapIntoPrimaryCell() {
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     OpenMM::mm_double4 boxSize(box[0][0], box[1][1], box[2][2], box[1][0]), inverse(1.0/box[0][0], 1.0/box[1][1], 1.0/box[2][2], 0.0);
     int numAtoms = cc.getNumAtoms(), numMolecules = static_cast<int>(leesEdwards.getMoleculesOfSeveral().size());
-    bool mixed = cc.getUseMixedPrecision();
-    if (mixed)
-        wrapParticles.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), cc.getAtomIndexArray(), inMolecule, boxSize, inverse);
-    else
-        wrapParticles.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getAtomIndexArray(), inMolecule, boxSize, inverse);
+    OpenMM::ArrayInterface& corrections = CommonDPDProgram::positionCorrections(cc);
+    wrapParticles.run(numAtoms, -1, numAtoms, cc.getPosq(), corrections, cc.getAtomIndexArray(), inMolecule, boxSize, inverse);
     if (numMolecules == 0)
         return;
     invertAtomIndex.run(numAtoms, -1, numAtoms, cc.getAtomIndexArray(), atomOf);
-    if (mixed)
-        wrapMolecules.run(numMolecules, -1, numMolecules, cc.getPosq(), cc.getPosqCorrection(), moleculeStart, moleculeAtoms, atomOf,
-                          boxSize, inverse);
-    else
-        wrapMolecules.run(numMolecules, -1, numMolecules, cc.getPosq(), moleculeStart, moleculeAtoms, atomOf, boxSize, inverse);
+    wrapMolecules.run(numMolecules, -1, numMolecules, cc.getPosq(), corrections, moleculeStart, moleculeAtoms, atomOf, boxSize, inverse);
 }
 
 void CommonDPDLeesEdwards::moveImages(double elapsed) {

@@ -253,12 +253,8 @@ int CommonDPDStepBackend::drift(double dt, int times, double kickDt, bool* veloc
     int kickFrom = kickDt == 0.0 ? 0 : (latestForcesStored ? 2 : 1);
     int step = stepOfCall();
     double maxDisplacement2 = maxDisplacementPerDrift*maxDisplacementPerDrift;
-    if (cc.getUseMixedPrecision())
-        driftKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), cc.getVelm(), cc.getLongForceBuffer(), storedForces,
-                        cc.getAtomIndexArray(), kickDt, kickFrom, dt, times, maxDisplacement2, step, flags, shear->flow().getShearRate());
-    else
-        driftKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getVelm(), cc.getLongForceBuffer(), storedForces, cc.getAtomIndexArray(),
-                        kickDt, kickFrom, dt, times, maxDisplacement2, step, flags, shear->flow().getShearRate());
+    driftKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), cc.getVelm(), cc.getLongForceBuffer(),
+                    storedForces, cc.getAtomIndexArray(), kickDt, kickFrom, dt, times, maxDisplacement2, step, flags, shear->flow().getShearRate());
     cc.getIntegrationUtilities().computeVirtualSites(); // as OpenMM's integrators do after every position update
     pairsAtCurrentPositions = friction.allValuesZero;
     return -1; // recorded on the device, reported once per step() call (takeFailedSteps)
@@ -296,20 +292,13 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
         int colour = request.reversed ? layout.numColours-1-n : n;
         if (!layout.colourIsUsed(colour))
             continue;
-        if (cc.getUseMixedPrecision())
-            sweepKernel.run(layout.blocksPerColour*CommonDPDProgram::sweepLanes, CommonDPDProgram::sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
-                            cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(),
-                            grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
-                            friction.maxCutoff, kT, request.dt, key, mode, request.reversed ? 1 : 0, gatherStress,
-                            blockStress, shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs,
-                            n*layout.blocksPerColour, recordRounds, roundsRows, colour*layout.blocksPerColour);
-        else
-            sweepKernel.run(layout.blocksPerColour*CommonDPDProgram::sweepLanes, CommonDPDProgram::sweepLanes, colour, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
-                            grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(),
-                            cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
-                            request.dt, key, mode, request.reversed ? 1 : 0, gatherStress, blockStress,
-                            shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs, n*layout.blocksPerColour,
-                            recordRounds, roundsRows, colour*layout.blocksPerColour);
+        sweepKernel.run(layout.blocksPerColour*CommonDPDProgram::sweepLanes, CommonDPDProgram::sweepLanes, colour, layout.numCells,
+                        layout.numBlocks, layout.blocksPerColour, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(),
+                        grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf,
+                        frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT, request.dt, key, mode,
+                        request.reversed ? 1 : 0, gatherStress, blockStress, shear->flow().getShearRate(), withResponse,
+                        responseFieldOrNone, responseOfPairs, n*layout.blocksPerColour, recordRounds, roundsRows,
+                        colour*layout.blocksPerColour);
         if (gatherStress)
             stress->addSweepColour(layout.blocksPerColour);
     }
@@ -335,17 +324,11 @@ void CommonDPDStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& 
     int numAtoms = cc.getNumAtoms(), gatherStress = accumulateStress && request.gatherStress ? 1 : 0;
     OpenMM::ComputeArray& stressRows = stress->blockRows(gatherStress ? numAtoms : 1); // one row a particle
     std::uint64_t key = request.randomKey;
-    if (cc.getUseMixedPrecision())
-        gatherForcesKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), cc.getPosqCorrection(), grid->getBoxSize(), grid->getInverseBoxSize(),
-                               grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(),
-                               cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
-                               request.dt, key, shear->flow().getShearRate(), cc.getVelm(), forces, latestForcesStored ? 1 : 0,
-                               gatherStress, stressRows);
-    else
-        gatherForcesKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), grid->getBoxSize(), grid->getInverseBoxSize(), grid->getLayout().numCells,
-                               grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf,
-                               frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT, request.dt, key,
-                               shear->flow().getShearRate(), cc.getVelm(), forces, latestForcesStored ? 1 : 0, gatherStress, stressRows);
+    gatherForcesKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(),
+                           grid->getInverseBoxSize(), grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(),
+                           cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
+                           request.dt, key, shear->flow().getShearRate(), cc.getVelm(), forces, latestForcesStored ? 1 : 0, gatherStress,
+                           stressRows);
     if (gatherStress)
         stress->addSweepColour(numAtoms);
 }

@@ -49,15 +49,8 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
         for (int n = 0; n < B; n++) {
             std::size_t k = first+n;
             int i = pi[k], j = pj[k];
-            double dx = x[i]-x[j], dy = y[i]-y[j], dz = z[i]-z[j];
-            double shiftC = std::nearbyint(dz*inverseCz);
-            dx -= shiftC*cx;
-            dy -= shiftC*cy;
-            dz -= shiftC*cz;
-            double shiftB = std::nearbyint(dy*inverseBy);
-            dx -= shiftB*bx;
-            dy -= shiftB*by;
-            dx -= std::nearbyint(dx*inverseAx)*ax;
+            DPDSeparation d = dpdMinimumImage(x[i]-x[j], y[i]-y[j], z[i]-z[j], ax, bx, by, cx, cy, cz, inverseAx, inverseBy, inverseCz);
+            double dx = d.x, dy = d.y, dz = d.z;
             r[n] = std::sqrt(dx*dx+dy*dy+dz*dz);
             distance[k] = r[n];
             double invR = 1.0/r[n];

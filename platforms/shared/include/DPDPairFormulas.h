@@ -1,8 +1,9 @@
 #ifndef OPENMMDPD_DPDPAIRFORMULAS_H_
 #define OPENMMDPD_DPDPAIRFORMULAS_H_
 
-#ifndef DPD_KERNEL_SOURCE // a kernel source has the dialect before this text
+#ifndef DPD_KERNEL_SOURCE // a kernel source has the dialect (and the minimum image) before this text
 #include "openmmdpd/internal/DPDKernelDialect.h"
+#include "openmmdpd/internal/DPDMinimumImageFormula.h"
 #endif
 
 /*

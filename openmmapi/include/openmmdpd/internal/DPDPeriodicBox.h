@@ -2,6 +2,7 @@
 #define OPENMMDPD_DPDPERIODICBOX_H_
 
 #include "openmm/OpenMMException.h"
+#include "openmmdpd/internal/DPDMinimumImageFormula.h"
 #include "openmm/Vec3.h"
 #include <algorithm>
 #include <cmath>
@@ -12,16 +13,15 @@ namespace OpenMMDPD {
 
 /**
  * Minimum-image displacement in OpenMM's reduced triclinic box (a along x, b in the xy plane,
- * c arbitrary, a_x >= 2|b_x|, ...).  Exact for distances up to half the box height, which the
- * cutoff check below guarantees.
+ * c arbitrary, a_x >= 2|b_x|, ...), and the checks of a cutoff against the box.
  */
 class DPDPeriodicBox {
 public:
-    static OpenMM::Vec3 minimumImage(OpenMM::Vec3 delta, const OpenMM::Vec3* box) {
-        delta -= box[2]*std::floor(delta[2]/box[2][2]+0.5);
-        delta -= box[1]*std::floor(delta[1]/box[1][1]+0.5);
-        delta -= box[0]*std::floor(delta[0]/box[0][0]+0.5);
-        return delta;
+    /** dpdMinimumImage (DPDMinimumImageFormula.h), exact for distances up to half the box height, which checkCutoff guarantees. */
+    static OpenMM::Vec3 minimumImage(const OpenMM::Vec3& delta, const OpenMM::Vec3* box) {
+        DPDSeparation image = dpdMinimumImage(delta[0], delta[1], delta[2], box[0][0], box[1][0], box[1][1], box[2][0], box[2][1], box[2][2],
+                                              1.0/box[0][0], 1.0/box[1][1], 1.0/box[2][2]);
+        return OpenMM::Vec3(image.x, image.y, image.z);
     }
 
     /** The image of a position inside the reduced box, [0, a_x) x [0, b_y) x [0, c_z) up to the tilt. */

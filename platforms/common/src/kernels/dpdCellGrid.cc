@@ -13,9 +13,9 @@
 #define DPD_POSITION_ARGUMENTS posq, posqCorrection
 #define DPD_POSITION(i) make_mixed4(posq[i].x+(mixed) posqCorrection[i].x, posq[i].y+(mixed) posqCorrection[i].y, \
                                     posq[i].z+(mixed) posqCorrection[i].z, posq[i].w)
-#else
-#define DPD_POSITIONS GLOBAL real4* RESTRICT posq
-#define DPD_POSITION_ARGUMENTS posq
+#else // the second array is posq again (CommonDPDProgram::positionCorrections), never read
+#define DPD_POSITIONS GLOBAL real4* RESTRICT posq, GLOBAL real4* posqCorrection
+#define DPD_POSITION_ARGUMENTS posq, posqCorrection
 #define DPD_POSITION(i) posq[i]
 #endif
 
@@ -75,21 +75,6 @@ DEVICE int dpdCellOf(mixed4 position, double4 boxSize, double4 inverseBoxSize, i
     int cy = dpdCellCoordinate(sy, numCells.y);
     int cz = dpdCellCoordinate(position.z*inverseBoxSize.z, numCells.z);
     return cx+numCells.x*(cy+numCells.y*cz);
-}
-
-typedef struct DPDSeparation {
-    double x, y, z;
-} DPDSeparation;
-
-/** The minimum image of q_i - q_j: along c, then b (which carries the offset b_x), then a, as OpenMM reduces it. */
-DEVICE DPDSeparation dpdMinimumImage(double dx, double dy, double dz, double4 boxSize, double4 inverseBoxSize) {
-    DPDSeparation delta;
-    double imageY = floor(dy*inverseBoxSize.y+0.5);
-    delta.z = dz-boxSize.z*floor(dz*inverseBoxSize.z+0.5);
-    delta.y = dy-boxSize.y*imageY;
-    dx -= boxSize.w*imageY;
-    delta.x = dx-boxSize.x*floor(dx*inverseBoxSize.x+0.5);
-    return delta;
 }
 
 /** The cell at offset (dx, dy, dz), each -1, 0 or 1, from cell (cx, cy, cz), periodic. */

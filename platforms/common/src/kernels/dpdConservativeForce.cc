@@ -32,8 +32,10 @@ KERNEL void dpdConservativeForces(int numAtoms, GLOBAL const real4* RESTRICT pos
                         if (j == i)
                             continue;
                         real4 pj = posq[j];
+                        // A rectangular box whose b_x is the Lees-Edwards offset.
                         DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y,
-                                                              (double) pi.z-(double) pj.z, boxSize, inverseBoxSize);
+                                                              (double) pi.z-(double) pj.z, boxSize.x, boxSize.w, boxSize.y, 0.0, 0.0,
+                                                              boxSize.z, inverseBoxSize.x, inverseBoxSize.y, inverseBoxSize.z);
                         double deltaX = delta.x, deltaY = delta.y, deltaZ = delta.z;
                         double r2 = deltaX*deltaX+deltaY*deltaY+deltaZ*deltaZ;
                         if (r2 >= maxCutoff2 || r2 == 0.0)

@@ -32,11 +32,7 @@ KERNEL void dpdWrapParticles(int numAtoms, DPD_POSITIONS, GLOBAL const int* REST
         double shiftB = floor(position.y*inverseBoxSize.y); // c has no y component: the z shift leaves y
         double x = position.x-shiftB*boxSize.w;
         double shiftA = floor(x*inverseBoxSize.x);
-#ifdef USE_MIXED_PRECISION
-        dpdStorePosition(posq, posqCorrection, i, dpdShiftByLattice(position, shiftA, shiftB, shiftC, boxSize));
-#else
-        dpdStorePosition(posq, i, dpdShiftByLattice(position, shiftA, shiftB, shiftC, boxSize));
-#endif
+        dpdStorePosition(DPD_POSITION_ARGUMENTS, i, dpdShiftByLattice(position, shiftA, shiftB, shiftC, boxSize));
     }
 }
 
@@ -62,11 +58,7 @@ KERNEL void dpdWrapMolecules(int numMolecules, DPD_POSITIONS, GLOBAL const int* 
         for (int k = begin; k < end; k++) {
             int i = atomOf[moleculeAtoms[k]];
             mixed4 position = DPD_POSITION(i);
-#ifdef USE_MIXED_PRECISION
-            dpdStorePosition(posq, posqCorrection, i, dpdShiftByLattice(position, shiftA, shiftB, shiftC, boxSize));
-#else
-            dpdStorePosition(posq, i, dpdShiftByLattice(position, shiftA, shiftB, shiftC, boxSize));
-#endif
+            dpdStorePosition(DPD_POSITION_ARGUMENTS, i, dpdShiftByLattice(position, shiftA, shiftB, shiftC, boxSize));
         }
     }
 }

@@ -22,8 +22,10 @@ typedef struct DPDPairGeometry {
  * and again by the lane that applies it, dpdApplyBufferedPairsInRounds) has the same bits.
  */
 DEVICE DPDPairGeometry dpdPairGeometry(mixed4 pi, mixed4 pj, double maxCutoff2, double4 boxSize, double4 inverseBoxSize) {
+    // A rectangular box whose b_x is the Lees-Edwards offset.
     DPDSeparation delta = dpdMinimumImage((double) pi.x-(double) pj.x, (double) pi.y-(double) pj.y, (double) pi.z-(double) pj.z,
-                                          boxSize, inverseBoxSize);
+                                          boxSize.x, boxSize.w, boxSize.y, 0.0, 0.0, boxSize.z, inverseBoxSize.x, inverseBoxSize.y,
+                                          inverseBoxSize.z);
     DPDPairGeometry geometry;
     geometry.r2 = delta.x*delta.x+delta.y*delta.y+delta.z*delta.z;
     geometry.r = geometry.ex = geometry.ey = geometry.ez = 0.0;

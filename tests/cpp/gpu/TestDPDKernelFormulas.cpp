@@ -47,6 +47,9 @@ cl_device_id doublePrecisionDevice() {
     return nullptr;
 }
 
+/** The doubles the probe writes per entry (DPDPairFormulasProbe.cl). */
+constexpr int probeOutputs = 14;
+
 struct ProbeInputs {
     std::vector<double> in;
     std::vector<cl_ulong> keys;
@@ -78,9 +81,12 @@ void hostProbe(const ProbeInputs& inputs, int k, double* y, std::uint64_t* bits)
     DPDPairUpdate ou = exactOrnsteinUhlenbeckUpdate(x[0], x[1], x[2], 1.0/x[2], x[3], x[4], R.squaredRadius, R.cosine);
     DPDPairUpdate bbk = bbkUpdate(x[0], x[1], x[2], x[3], x[4], dpdNormal(R));
     DPDPairUpdate force = dissipativeAndRandomForce(x[0], x[1], x[3], x[4], dpdNormal(R));
-    double values[9] = {R.squaredRadius, R.cosine, ou.slope, ou.offset, bbk.slope, bbk.offset, dpdMomentumChange(force, 0.25),
-                        dpdDissipativePart(ou, -0.5), leesEdwardsRelativeVelocity(x[5], x[6], x[7], 0.6)};
-    std::copy(values, values+9, y);
+    DPDSeparation image = dpdMinimumImage(3.0*x[7], 4.0*x[6]-2.0, 5.0*x[5], 1.7, 0.4, 1.9, -0.3, 0.2, 2.1, 1.0/1.7, 1.0/1.9, 1.0/2.1);
+    double acts = dpdPairActs(x[6], 0.9, k % 5 == 0 ? 0.0 : x[0], k % 13 == 0 ? 0.0 : x[2]);
+    double values[probeOutputs] = {R.squaredRadius, R.cosine, ou.slope, ou.offset, bbk.slope, bbk.offset, dpdMomentumChange(force, 0.25),
+                                   dpdDissipativePart(ou, -0.5), leesEdwardsRelativeVelocity(x[5], x[6], x[7], 0.6),
+                                   dpdMomentumChangeFused(ou, -0.5), image.x, image.y, image.z, acts};
+    std::copy(values, values+probeOutputs, y);
     bits[0] = dpdMix64(inputs.keys[k]);
     bits[1] = dpdSweepKey(inputs.keys[k], static_cast<std::uint64_t>(k));
 }
@@ -117,7 +123,7 @@ TEST(KernelFormulas, OpenCLDeviceComputesWhatTheHostComputes) {
     cl_mem in = buffer(CL_MEM_READ_ONLY, sizeof(double)*inputs.in.size(), inputs.in.data());
     cl_mem keys = buffer(CL_MEM_READ_ONLY, sizeof(cl_ulong)*inputs.keys.size(), inputs.keys.data());
     cl_mem pairs = buffer(CL_MEM_READ_ONLY, sizeof(cl_int)*inputs.pairs.size(), inputs.pairs.data());
-    cl_mem out = buffer(CL_MEM_WRITE_ONLY, sizeof(double)*9*count, nullptr);
+    cl_mem out = buffer(CL_MEM_WRITE_ONLY, sizeof(double)*probeOutputs*count, nullptr);
     cl_mem bits = buffer(CL_MEM_WRITE_ONLY, sizeof(cl_ulong)*2*count, nullptr);
     cl_int n = count;
     clSetKernelArg(kernel, 0, sizeof(n), &n);
@@ -130,26 +136,29 @@ TEST(KernelFormulas, OpenCLDeviceComputesWhatTheHostComputes) {
     ASSERT_EQ(status, CL_SUCCESS);
     size_t globalSize = 256;
     ASSERT_EQ(clEnqueueNDRangeKernel(queue, kernel, 1, nullptr, &globalSize, nullptr, 0, nullptr, nullptr), CL_SUCCESS);
-    std::vector<double> deviceOut(9*count);
+    std::vector<double> deviceOut(probeOutputs*count);
     std::vector<cl_ulong> deviceBits(2*count);
     ASSERT_EQ(clEnqueueReadBuffer(queue, out, CL_TRUE, 0, sizeof(double)*deviceOut.size(), deviceOut.data(), 0, nullptr, nullptr), CL_SUCCESS);
     ASSERT_EQ(clEnqueueReadBuffer(queue, bits, CL_TRUE, 0, sizeof(cl_ulong)*deviceBits.size(), deviceBits.data(), 0, nullptr, nullptr), CL_SUCCESS);
 
     // Each value is a few roundings from its inputs; 1e-13 of its scale is ~500 ulp, far below what a
     // formula written differently (a factor, a sign, a square root) would change, and far above rounding.
-    const char* names[9] = {"-2 ln u1", "cos(2 pi u2)", "OU slope", "OU offset", "BBK slope", "BBK offset", "VV force",
-                            "OU dissipative part", "Lees-Edwards relative velocity"};
+    // The minimum image's components and the pair-acts flag are compared against their scale, 1 (a
+    // component near 0 is the difference of two numbers of the box's size).
+    const char* names[probeOutputs] = {"-2 ln u1", "cos(2 pi u2)", "OU slope", "OU offset", "BBK slope", "BBK offset", "VV force",
+                                       "OU dissipative part", "Lees-Edwards relative velocity", "OU momentum change, fused",
+                                       "minimum image x", "minimum image y", "minimum image z", "pair acts"};
     int mismatches = 0;
     for (int k = 0; k < count && mismatches < 10; k++) {
-        double host[9];
+        double host[probeOutputs];
         std::uint64_t hostBits[2];
         hostProbe(inputs, k, host, hostBits);
         EXPECT_EQ(deviceBits[2*k], hostBits[0]) << "dpdMix64, entry " << k;
         EXPECT_EQ(deviceBits[2*k+1], hostBits[1]) << "dpdSweepKey, entry " << k;
-        for (int m = 0; m < 9; m++) {
-            double scale = std::max(1e-300, std::fabs(host[m]));
-            if (!(std::fabs(deviceOut[9*k+m]-host[m]) <= 1e-13*scale)) {
-                ADD_FAILURE() << names[m] << ", entry " << k << ": device " << deviceOut[9*k+m] << ", host " << host[m];
+        for (int m = 0; m < probeOutputs; m++) {
+            double scale = std::max(m >= 10 ? 1.0 : 1e-300, std::fabs(host[m]));
+            if (!(std::fabs(deviceOut[probeOutputs*k+m]-host[m]) <= 1e-13*scale)) {
+                ADD_FAILURE() << names[m] << ", entry " << k << ": device " << deviceOut[probeOutputs*k+m] << ", host " << host[m];
                 mismatches++;
             }
         }

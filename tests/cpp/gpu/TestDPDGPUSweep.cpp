@@ -3,7 +3,7 @@
 // held in local memory those swept in global memory, the sweep's profile (the cost model's input)
 // records each block's rounds and pairs without changing a bit, and its settings are checked.
 
-#include "OpenCLTestSupport.h"
+#include "GPUTestSupport.h"
 #include "openmmdpd/DPDColourDrift.h"
 #include <gtest/gtest.h>
 #include <cstdio>
@@ -41,7 +41,7 @@ SweptRun sweptRun(const EquilibratedFluid& start, const std::string& scheme, int
         integrator.setNorton(DPDColourDrift(), 0.05);
     if (scheme == "ABOBA+shear")
         integrator.setLeesEdwards(0.5);
-    auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+    auto context = gpuContext(*start.fluid.system, integrator, "mixed");
     context->setPositions(start.fluid.positions);
     context->setVelocities(start.velocities);
     integrator.step(steps);
@@ -98,7 +98,7 @@ public:
 
 } // namespace
 
-TEST(OpenCLSweep, RoundsOfDisjointPairsGiveTheBitsOfTheChain) {
+TEST(GPUSweep, RoundsOfDisjointPairsGiveTheBitsOfTheChain) {
     // The sweep applies a block's pairs in rounds of pairs that share no particle, all lanes at once;
     // OPENMMDPD_GPU_SWEEP_ORDER=chain applies them one after another in the sweep's order, the sequential
     // sweep itself.  Each particle sees its pairs in the same order with the same arithmetic, so every
@@ -124,7 +124,7 @@ TEST(OpenCLSweep, RoundsOfDisjointPairsGiveTheBitsOfTheChain) {
     }
 }
 
-TEST(OpenCLSweep, ProfileRecordsEachBlocksRoundsAndPairsWithoutChangingTheBits) {
+TEST(GPUSweep, ProfileRecordsEachBlocksRoundsAndPairsWithoutChangingTheBits) {
     // With OPENMMDPD_GPU_SWEEP_PROFILE set, each sweep appends its blocks' rounds and pairs (the cost
     // model's input, benchmarks/gpu_cost_model.py).  Observing changes nothing: the run's bits are those
     // of the run without it.  In the chain each round is one pair, so every block's rounds equal its
@@ -168,7 +168,7 @@ TEST(OpenCLSweep, ProfileRecordsEachBlocksRoundsAndPairsWithoutChangingTheBits) 
     EXPECT_LT(ratio, 0.4);
 }
 
-TEST(OpenCLSweep, SweepSettingsOutOfRangeRaiseNamingThem) {
+TEST(GPUSweep, SweepSettingsOutOfRangeRaiseNamingThem) {
     SoftFluid fluid = makeSoftFluid(300, 3.0);
     {
         EnvironmentSetting order("OPENMMDPD_GPU_SWEEP_ORDER", "sideways");
@@ -178,7 +178,7 @@ TEST(OpenCLSweep, SweepSettingsOutOfRangeRaiseNamingThem) {
     EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_PROFILE is '/no/such/folder/profile.jsonl'", "cannot be opened"}));
 }
 
-TEST(OpenCLSweep, SweepsHeldInLocalMemoryAndInGlobalMemoryGiveTheSameBits) {
+TEST(GPUSweep, SweepsHeldInLocalMemoryAndInGlobalMemoryGiveTheSameBits) {
     // The O and BBK sweeps hold each block's region (its particles and the partners they reach) in local
     // memory, and sweep a region too big for it (a dense cluster) in global memory instead: the same
     // pairs, numbers and updates in the same order.  With the capacity at 0 every region takes the
@@ -196,7 +196,7 @@ TEST(OpenCLSweep, SweepsHeldInLocalMemoryAndInGlobalMemoryGiveTheSameBits) {
     }
 }
 
-TEST(OpenCLSweep, SweepCapacityOutOfRangeRaisesNamingIt) {
+TEST(GPUSweep, SweepCapacityOutOfRangeRaisesNamingIt) {
     SoftFluid fluid = makeSoftFluid(300, 3.0);
     // Double precision: at most what CUDA's 48 KiB of static shared memory holds, 472 particles.
     for (const char* value : {"-1", "lots", "473"}) {

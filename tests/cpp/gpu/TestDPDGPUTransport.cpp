@@ -2,7 +2,7 @@
 // Norton holding the response at its target to round-off, the shear profiles evaluated on the device,
 // NEMD's response and Norton's forcing against the CPU.
 
-#include "OpenCLTestSupport.h"
+#include "GPUTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/OpenMMException.h"
@@ -19,9 +19,9 @@ using namespace OpenMMDPD;
 using namespace OpenMMDPDTest;
 
 
-class OpenCLNorton : public ::testing::TestWithParam<std::string> {};
+class GPUNorton : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(OpenCLNorton, ResponseHeldAtTheTargetToRoundOff) {
+TEST_P(GPUNorton, ResponseHeldAtTheTargetToRoundOff) {
     // Norton dynamics (Wu & Shang eqs. 52-70) on OpenCL in double precision: every projection sets
     // G . p = r from the device's fixed-order sums, so R, measured here with the profile's host
     // evaluate(), stays at r to round-off (1e-10 relative, as on the host platforms) over 2000 steps.
@@ -39,7 +39,7 @@ TEST_P(OpenCLNorton, ResponseHeldAtTheTargetToRoundOff) {
     DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.05, DPDIntegrator::ABOBA);
     integrator.setRandomNumberSeed(43);
     integrator.setNorton(*profile, r);
-    auto context = openCLContext(*start.fluid.system, integrator);
+    auto context = gpuContext(*start.fluid.system, integrator);
     context->setPositions(start.fluid.positions);
     context->setVelocities(start.velocities);
     double worst = 0.0;
@@ -52,9 +52,9 @@ TEST_P(OpenCLNorton, ResponseHeldAtTheTargetToRoundOff) {
     EXPECT_EQ(integrator.getTransportStatistics().steps, 2000);
 }
 
-INSTANTIATE_TEST_SUITE_P(Profiles, OpenCLNorton, ::testing::Values("ColourDrift", "sinusoidal", "piecewise_linear", "piecewise_constant"));
+INSTANTIATE_TEST_SUITE_P(Profiles, GPUNorton, ::testing::Values("ColourDrift", "sinusoidal", "piecewise_linear", "piecewise_constant"));
 
-TEST(OpenCLTransport, ShearProfilesOnTheDeviceDriveTheReferenceTrajectory) {
+TEST(GPUTransport, ShearProfilesOnTheDeviceDriveTheReferenceTrajectory) {
     // Without friction an ABOBA step is deterministic (no O sweep), so NEMD with each shear profile on
     // OpenCL in double precision must follow the Reference platform's trajectory to round-off: the
     // device's F(q) (DPDShearProfileFormulas.h, from its own positions twice a step) is the host's.
@@ -76,7 +76,7 @@ TEST(OpenCLTransport, ShearProfilesOnTheDeviceDriveTheReferenceTrajectory) {
         for (int p = 0; p < 2; p++) {
             DPDIntegrator integrator(reducedTemperature, 0.0, 1.0, 0.02, DPDIntegrator::ABOBA);
             integrator.setNEMD(DPDColourDrift(), 2.0);
-            auto context = p == 0 ? openCLContext(*start.fluid.system, integrator) : makeContext(start, integrator, "Reference");
+            auto context = p == 0 ? gpuContext(*start.fluid.system, integrator) : makeContext(start, integrator, "Reference");
             context->setPositions(start.fluid.positions);
             context->setVelocities(start.velocities);
             for (const std::string& phase : phases) {
@@ -100,7 +100,7 @@ TEST(OpenCLTransport, ShearProfilesOnTheDeviceDriveTheReferenceTrajectory) {
     }
 }
 
-TEST(OpenCLTransport, UncontrollableShearIsReportedAtTheCallsEnd) {
+TEST(GPUTransport, UncontrollableShearIsReportedAtTheCallsEnd) {
     // A fluid in the plane y = 0 stays there (every pair force lies in the plane), where the
     // sinusoidal profile's F and G vanish: F . G = 0 fails Norton's controllability.  The host platforms
     // refuse the first step; the device, which keeps F . G, applies no Norton impulse (nothing turns
@@ -115,7 +115,7 @@ TEST(OpenCLTransport, UncontrollableShearIsReportedAtTheCallsEnd) {
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.005, DPDIntegrator::ABOBA);
         integrator.setNorton(DPDShearProfile(DPDShearProfile::Sinusoidal), 0.05);
         auto context = std::string(platformName) == "CPU" ? makeContext(start, integrator, "CPU")
-                                                          : openCLContext(*start.fluid.system, integrator);
+                                                          : gpuContext(*start.fluid.system, integrator);
         context->setPositions(start.fluid.positions);
         context->setVelocities(start.velocities);
         if (std::string(platformName) == "CPU") {
@@ -133,7 +133,7 @@ TEST(OpenCLTransport, UncontrollableShearIsReportedAtTheCallsEnd) {
     }
 }
 
-TEST(OpenCLTransport, NEMDAndNortonAgreeWithTheCPU) {
+TEST(GPUTransport, NEMDAndNortonAgreeWithTheCPU) {
     // Colour drift at N = 300, gamma = 4.5, ABOBA, dt = 0.05: NEMD's mean response to eta = 3 and
     // Norton's mean forcing (its multipliers, with the O sweep's dissipative part G . Delta p^D of
     // eq. 63) at r = 1.5, from 20 blocks of 100 steps after 200, on OpenCL (mixed) and on the CPU:
@@ -155,7 +155,7 @@ TEST(OpenCLTransport, NEMDAndNortonAgreeWithTheCPU) {
                 integrator.setNEMD(DPDColourDrift(), 3.0);
             else
                 integrator.setNorton(DPDColourDrift(), 1.5);
-            auto context = p == 0 ? openCLContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
+            auto context = p == 0 ? gpuContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
             context->setPositions(start.fluid.positions);
             context->setVelocities(start.velocities);
             integrator.step(200);
@@ -175,7 +175,7 @@ TEST(OpenCLTransport, NEMDAndNortonAgreeWithTheCPU) {
     }
 }
 
-TEST(OpenCLTransport, TransportSumsStayOnTheDeviceAndComeBackAtEachCallsEnd) {
+TEST(GPUTransport, TransportSumsStayOnTheDeviceAndComeBackAtEachCallsEnd) {
     // The scalars and sums of Norton and NEMD live on the device and come back once a step() call
     // (CommonDPDForcing's registers): 30 steps in one call and in 30 calls must give the same bits, for
     // the trajectory and for every transport statistic; a reset between calls must restart the sums on
@@ -190,7 +190,7 @@ TEST(OpenCLTransport, TransportSumsStayOnTheDeviceAndComeBackAtEachCallsEnd) {
                 integrator.setNEMD(DPDShearProfile(DPDShearProfile::Sinusoidal), 0.5);
             else
                 integrator.setNorton(DPDColourDrift(), 0.4);
-            auto context = openCLContext(*start.fluid.system, integrator);
+            auto context = gpuContext(*start.fluid.system, integrator);
             context->setPositions(start.fluid.positions);
             context->setVelocities(start.velocities);
             return context;

@@ -4,7 +4,7 @@
 // where OpenMM's own GPU DPDIntegrator heats the fluid), momentum, run-to-run bits, OpenMM's atom
 // reordering, checkpoints, and what the platform refuses.  Tolerances: see each test.
 
-#include "OpenCLTestSupport.h"
+#include "GPUTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/CMMotionRemover.h"
 #include "openmm/HarmonicBondForce.h"
@@ -21,9 +21,9 @@ using namespace OpenMM;
 using namespace OpenMMDPD;
 using namespace OpenMMDPDTest;
 
-class OpenCLPrecision : public ::testing::TestWithParam<std::string> {};
+class GPUPrecision : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(OpenCLPrecision, ForcesAndEnergyMatchReference) {
+TEST_P(GPUPrecision, ForcesAndEnergyMatchReference) {
     // Two species, N = 300.  The forces sum in OpenMM's fixed point (2^-32 kJ/mol/nm, ~1e-11 of these
     // forces); single and mixed precision compute distances from float positions (~1e-7 relative, which
     // the w = 1 - r/r_c of nearly touching pairs amplifies to ~1e-6).  Measured: 4e-12 (double), 2e-6 (mixed, single).
@@ -31,7 +31,7 @@ TEST_P(OpenCLPrecision, ForcesAndEnergyMatchReference) {
     makeTwoSpecies(*fluid.system, nullptr);
     VerletIntegrator reference(0.01), device(0.01);
     Context referenceContext(*fluid.system, reference, platform("Reference"));
-    auto deviceContext = openCLContext(*fluid.system, device, GetParam());
+    auto deviceContext = gpuContext(*fluid.system, device, GetParam());
     referenceContext.setPositions(fluid.positions);
     deviceContext->setPositions(fluid.positions);
     State expected = referenceContext.getState(State::Forces | State::Energy);
@@ -49,10 +49,10 @@ TEST_P(OpenCLPrecision, ForcesAndEnergyMatchReference) {
     EXPECT_LT(std::sqrt(total.dot(total)), 1e-8) << "total force";
 }
 
-INSTANTIATE_TEST_SUITE_P(Precisions, OpenCLPrecision, ::testing::Values("double", "mixed", "single"),
+INSTANTIATE_TEST_SUITE_P(Precisions, GPUPrecision, ::testing::Values("double", "mixed", "single"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
-TEST(OpenCLPlatform, CellGridOfSeveralScanTilesFindsEveryPair) {
+TEST(GPUPlatform, CellGridOfSeveralScanTilesFindsEveryPair) {
     // The scan of the cell counts works in tiles of 2048 cells (CommonDPDCellGrid::scanTile): up to
     // 8 tiles one work-group scans in turn, carrying the running total; more go a work-group a tile,
     // each starting after the totals of the tiles before it.  N = 7500 at density 3 has 13^3 = 2197
@@ -65,7 +65,7 @@ TEST(OpenCLPlatform, CellGridOfSeveralScanTilesFindsEveryPair) {
         ASSERT_GT(cells, numParticles == 7500 ? 2048.0 : 8*2048.0);
         VerletIntegrator reference(0.01), device(0.01);
         Context referenceContext(*fluid.system, reference, platform("Reference"));
-        auto deviceContext = openCLContext(*fluid.system, device, "double");
+        auto deviceContext = gpuContext(*fluid.system, device, "double");
         referenceContext.setPositions(fluid.positions);
         deviceContext->setPositions(fluid.positions);
         State expected = referenceContext.getState(State::Forces | State::Energy);
@@ -76,7 +76,7 @@ TEST(OpenCLPlatform, CellGridOfSeveralScanTilesFindsEveryPair) {
     }
 }
 
-TEST(OpenCLPlatform, VelocityVerletStepMatchesReference) {
+TEST(GPUPlatform, VelocityVerletStepMatchesReference) {
     // VV's F^D + F^R read the velocities before any update, so its step does not depend on the pair
     // order: with the same random numbers (one function of seed, sweep and System indices on every
     // platform) one step agrees with Reference to the fixed-point force resolution.  Measured: 1e-11.
@@ -89,7 +89,7 @@ TEST(OpenCLPlatform, VelocityVerletStepMatchesReference) {
         integrator->addTypePair(0, 1, 40.5, 1.0);
     }
     auto referenceContext = makeContext(start, reference, "Reference");
-    auto deviceContext = openCLContext(*start.fluid.system, device);
+    auto deviceContext = gpuContext(*start.fluid.system, device);
     deviceContext->setPositions(start.fluid.positions);
     deviceContext->setVelocities(start.velocities);
     for (int step = 0; step < 2; step++) {
@@ -112,7 +112,7 @@ Temperatures measureTemperatures(const EquilibratedFluid& start, const std::stri
                                  double friction, double dt, int stepsPerSample) {
     DPDIntegrator integrator(reducedTemperature, friction, 1.0, dt, scheme);
     integrator.setRandomNumberSeed(2026);
-    auto context = platformName == "CPU" ? makeContext(start, integrator, "CPU") : openCLContext(*start.fluid.system, integrator, "mixed");
+    auto context = platformName == "CPU" ? makeContext(start, integrator, "CPU") : gpuContext(*start.fluid.system, integrator, "mixed");
     context->setPositions(start.fluid.positions);
     context->setVelocities(start.velocities);
     integrator.step(100);
@@ -135,9 +135,9 @@ Temperatures measureTemperatures(const EquilibratedFluid& start, const std::stri
 
 } // namespace
 
-class OpenCLScheme : public ::testing::TestWithParam<std::string> {};
+class GPUScheme : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(OpenCLScheme, TemperaturesAgreeWithTheCPUAtEveryFriction) {
+TEST_P(GPUScheme, TemperaturesAgreeWithTheCPUAtEveryFriction) {
     // N = 375, mixed precision on OpenCL, double on the CPU: each scheme's T_kin and T_conf at gamma = 4.5
     // and 40.5 (dt = 0.05, samples 5 steps apart) and 450 (dt = 0.02, 10 apart: the overdamped fluid's
     // configurations decorrelate slowly) agree with the CPU platform's within 5 combined block standard
@@ -176,17 +176,17 @@ TEST_P(OpenCLScheme, TemperaturesAgreeWithTheCPUAtEveryFriction) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Schemes, OpenCLScheme, ::testing::ValuesIn(allSchemes),
+INSTANTIATE_TEST_SUITE_P(Schemes, GPUScheme, ::testing::ValuesIn(allSchemes),
                          [](const ::testing::TestParamInfo<std::string>& info) { return testName(info.param); });
 
-TEST(OpenCLPlatform, MomentumIsConservedToRoundOffOver10000Steps) {
+TEST(GPUPlatform, MomentumIsConservedToRoundOffOver10000Steps) {
     // Double precision: the conservative forces sum to exactly zero (fixed-point pair forces) and each
     // sweep update adds and subtracts the same momentum, so P drifts only by the rounding of v += ...
     // (~1e-16 |v| per particle and step: a random walk of ~1e-12 here).  Bound: 1e-9.
     EquilibratedFluid start = equilibratedSoftFluid(300);
     DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.04, DPDIntegrator::ABOBA);
     integrator.setRandomNumberSeed(11);
-    auto context = openCLContext(*start.fluid.system, integrator);
+    auto context = gpuContext(*start.fluid.system, integrator);
     context->setPositions(start.fluid.positions);
     context->setVelocities(start.velocities);
     auto momentum = [&] {
@@ -201,7 +201,7 @@ TEST(OpenCLPlatform, MomentumIsConservedToRoundOffOver10000Steps) {
     EXPECT_LT(std::sqrt(change.dot(change)), 1e-9);
 }
 
-TEST(OpenCLPlatform, RunsWithTheSameSeedAreBitIdentical) {
+TEST(GPUPlatform, RunsWithTheSameSeedAreBitIdentical) {
     // No floating-point atomics, cells sorted by System index, counter-based random numbers: the same
     // seed gives the same bits, whatever order the device's threads ran in.
     EquilibratedFluid start = equilibratedSoftFluid(300);
@@ -210,7 +210,7 @@ TEST(OpenCLPlatform, RunsWithTheSameSeedAreBitIdentical) {
         for (Snapshot& run : runs) {
             DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, scheme);
             integrator.setRandomNumberSeed(5);
-            auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+            auto context = gpuContext(*start.fluid.system, integrator, "mixed");
             context->setPositions(start.fluid.positions);
             context->setVelocities(start.velocities);
             integrator.step(150);
@@ -220,7 +220,7 @@ TEST(OpenCLPlatform, RunsWithTheSameSeedAreBitIdentical) {
     }
 }
 
-TEST(OpenCLPlatform, StepNAndNSingleStepsGiveTheSameBits) {
+TEST(GPUPlatform, StepNAndNSingleStepsGiveTheSameBits) {
     // Nothing of a step may depend on how the steps are split into calls: the device's record of an
     // unsound state is read after a call's last step only, and the scheme layer fuses across the steps
     // of one call (DPDStepFusion: ABOBA's closing and opening half-drifts in one launch) where nothing
@@ -237,7 +237,7 @@ TEST(OpenCLPlatform, StepNAndNSingleStepsGiveTheSameBits) {
         for (int single = 0; single < 2; single++) {
             DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, withRemover ? "ABOBA" : scheme);
             integrator.setRandomNumberSeed(6);
-            auto context = openCLContext(system, integrator, "mixed");
+            auto context = gpuContext(system, integrator, "mixed");
             context->setPositions(start.fluid.positions);
             context->setVelocities(start.velocities);
             if (single == 1)
@@ -251,7 +251,7 @@ TEST(OpenCLPlatform, StepNAndNSingleStepsGiveTheSameBits) {
     }
 }
 
-TEST(OpenCLPlatform, PerTypeParametersSurviveOpenMMsAtomReordering) {
+TEST(GPUPlatform, PerTypeParametersSurviveOpenMMsAtomReordering) {
     // A cutoff CustomNonbondedForce (zero energy) makes OpenMM reorder the atoms every 250 steps.  After
     // 600 steps, the DPDForce's two-species forces must still be those Reference computes at the same
     // positions (types read by System index through atomIndex), and the friction types must still act
@@ -268,7 +268,7 @@ TEST(OpenCLPlatform, PerTypeParametersSurviveOpenMMsAtomReordering) {
     DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, DPDIntegrator::ABOBA);
     integrator.setRandomNumberSeed(3);
     makeTwoSpecies(system, &integrator);
-    auto context = openCLContext(system, integrator, "mixed");
+    auto context = gpuContext(system, integrator, "mixed");
     context->setPositions(start.fluid.positions);
     context->setVelocities(start.velocities);
     integrator.step(600);
@@ -282,12 +282,12 @@ TEST(OpenCLPlatform, PerTypeParametersSurviveOpenMMsAtomReordering) {
     EXPECT_TRUE(nearOne(sampled.kineticEstimate(), 0.04)) << "T_kin after reorders";
 }
 
-TEST(OpenCLPlatform, CheckpointContinuationIsBitIdentical) {
+TEST(GPUPlatform, CheckpointContinuationIsBitIdentical) {
     EquilibratedFluid start = equilibratedSoftFluid(300);
     for (const char* scheme : {"VV", "S1", "ABOBA"}) {
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
         integrator.setRandomNumberSeed(9);
-        auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+        auto context = gpuContext(*start.fluid.system, integrator, "mixed");
         context->setPositions(start.fluid.positions);
         context->setVelocities(start.velocities);
         integrator.step(40);
@@ -297,14 +297,14 @@ TEST(OpenCLPlatform, CheckpointContinuationIsBitIdentical) {
         Snapshot uninterrupted = snapshot(*context);
 
         DPDIntegrator resumedIntegrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
-        auto resumed = openCLContext(*start.fluid.system, resumedIntegrator, "mixed");
+        auto resumed = gpuContext(*start.fluid.system, resumedIntegrator, "mixed");
         resumed->loadCheckpoint(checkpoint);
         resumedIntegrator.step(40);
         EXPECT_TRUE(bitIdentical(snapshot(*resumed), uninterrupted)) << scheme;
     }
 }
 
-TEST(OpenCLPlatform, WhatThePlatformCannotDoRaisesNamingIt) {
+TEST(GPUPlatform, WhatThePlatformCannotDoRaisesNamingIt) {
     // A triclinic box other than the Lees-Edwards one (here c has an x component): the device cell grid
     // is laid out in rectangular or sheared lattice coordinates only, so the Context is refused, naming
     // the box and the platforms that take it.
@@ -315,10 +315,10 @@ TEST(OpenCLPlatform, WhatThePlatformCannotDoRaisesNamingIt) {
         fluid, {"the OpenCL and CUDA platforms need a rectangular periodic box or the Lees-Edwards box", "use the CPU or Reference platform"}));
 }
 
-TEST(OpenCLPlatform, BoxNarrowerThanThreeCutoffsRaises) {
+TEST(GPUPlatform, BoxNarrowerThanThreeCutoffsRaises) {
     SoftFluid fluid = makeSoftFluid(60, 3.0); // L = 2.7 < 3 r_c
     VerletIntegrator verlet(0.01);
-    auto context = openCLContext(*fluid.system, verlet);
+    auto context = gpuContext(*fluid.system, verlet);
     context->setPositions(fluid.positions);
     try {
         context->getState(State::Forces);
@@ -329,14 +329,14 @@ TEST(OpenCLPlatform, BoxNarrowerThanThreeCutoffsRaises) {
     }
 }
 
-TEST(OpenCLPlatform, UnstableRunRaisesAtTheEndOfTheCallNamingTheStep) {
+TEST(GPUPlatform, UnstableRunRaisesAtTheEndOfTheCallNamingTheStep) {
     // dt = 3 blows the soft fluid up within a few steps; the device records the first unsound step and
     // the call throws after its last step, naming it (the host platforms throw at that step).  The
     // Context's step count may be past what an int holds: the step named is still the right one.
     EquilibratedFluid start = equilibratedSoftFluid(300);
     for (long long before : {0LL, 3000000000LL}) {
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 3.0, DPDIntegrator::VV);
-        auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+        auto context = gpuContext(*start.fluid.system, integrator, "mixed");
         context->setPositions(start.fluid.positions);
         context->setVelocities(start.velocities);
         context->setStepCount(before);

@@ -1,7 +1,7 @@
-#ifndef OPENMMDPD_OPENCLTESTSUPPORT_H_
-#define OPENMMDPD_OPENCLTESTSUPPORT_H_
+#ifndef OPENMMDPD_GPUTESTSUPPORT_H_
+#define OPENMMDPD_GPUTESTSUPPORT_H_
 
-// What the OpenCL platform's test files share: a Context on OpenCL in a given precision, the
+// What the GPU platforms' test files share: a Context on the GPU platform under test (OpenCL, or CUDA) in a given precision, the
 // comparisons their tolerances are written in, a two-species fluid, and the sweep's settings.
 
 #include "../DPDTestSupport.h"
@@ -25,7 +25,7 @@ inline std::string gpuPlatformName() {
     return name != nullptr && *name != '\0' ? name : "OpenCL";
 }
 
-inline std::unique_ptr<OpenMM::Context> openCLContext(const OpenMM::System& system, OpenMM::Integrator& integrator,
+inline std::unique_ptr<OpenMM::Context> gpuContext(const OpenMM::System& system, OpenMM::Integrator& integrator,
                                                       const std::string& precision = "double") {
     return std::make_unique<OpenMM::Context>(system, integrator, platform(gpuPlatformName()),
                                              std::map<std::string, std::string>{{"Precision", precision}});
@@ -62,7 +62,7 @@ inline ::testing::AssertionResult firstStepRaisesMentioning(const SoftFluid& flu
     OpenMMDPD::DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, OpenMMDPD::DPDIntegrator::ABOBA);
     return throwsMentioning(
         [&] {
-            auto context = openCLContext(*fluid.system, integrator);
+            auto context = gpuContext(*fluid.system, integrator);
             context->setPositions(fluid.positions);
             integrator.step(1);
         },

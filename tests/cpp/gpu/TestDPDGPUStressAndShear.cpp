@@ -3,7 +3,7 @@
 // pressure, the sheared viscosity, streaming profile and sheared chains against the CPU, sheared runs'
 // bits and checkpoints.
 
-#include "OpenCLTestSupport.h"
+#include "GPUTestSupport.h"
 #include "../LeesEdwardsTestSupport.h"
 #include "openmm/CustomExternalForce.h"
 #include "openmm/CustomNonbondedForce.h"
@@ -49,7 +49,7 @@ void expectPartsNear(const DPDIntegrator::StressStatistics& actual, const DPDInt
 
 } // namespace
 
-TEST(OpenCLStress, VelocityVerletSamplesMatchReference) {
+TEST(GPUStress, VelocityVerletSamplesMatchReference) {
     // VV's step does not depend on the pair order (see VelocityVerletStepMatchesReference), so its stress
     // samples must agree with Reference part by part: kinetic and conservative (the DPDForce's force
     // pass) at q^{n+1}, dissipative and random from F^D + F^R.  Double precision; tolerance 1e-9 of
@@ -61,7 +61,7 @@ TEST(OpenCLStress, VelocityVerletSamplesMatchReference) {
         integrator->setStressAccumulation(true);
     }
     auto referenceContext = makeContext(start, reference, "Reference");
-    auto deviceContext = openCLContext(*start.fluid.system, device);
+    auto deviceContext = gpuContext(*start.fluid.system, device);
     deviceContext->setPositions(start.fluid.positions);
     deviceContext->setVelocities(start.velocities);
     reference.step(3);
@@ -71,7 +71,7 @@ TEST(OpenCLStress, VelocityVerletSamplesMatchReference) {
     expectPartsNear(actual, expected, {1e-9, 1e-9, 1e-9, 1e-9});
 }
 
-TEST(OpenCLStress, AccumulatingStressLeavesTheTrajectoryAlone) {
+TEST(GPUStress, AccumulatingStressLeavesTheTrajectoryAlone) {
     EquilibratedFluid start = equilibratedSoftFluid(300);
     for (const char* scheme : {"ABOBA", "S1", "BAOOAB"}) {
         Snapshot runs[2];
@@ -79,7 +79,7 @@ TEST(OpenCLStress, AccumulatingStressLeavesTheTrajectoryAlone) {
             DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, scheme);
             integrator.setRandomNumberSeed(5);
             integrator.setStressAccumulation(withStress == 1);
-            auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+            auto context = gpuContext(*start.fluid.system, integrator, "mixed");
             context->setPositions(start.fluid.positions);
             context->setVelocities(start.velocities);
             integrator.step(60);
@@ -92,7 +92,7 @@ TEST(OpenCLStress, AccumulatingStressLeavesTheTrajectoryAlone) {
     }
 }
 
-TEST(OpenCLStress, SamplesWithBondsAnglesAndACustomPairMatchReference) {
+TEST(GPUStress, SamplesWithBondsAnglesAndACustomPairMatchReference) {
     // A fluid of 5-bead chains (periodic HarmonicBondForce and HarmonicAngleForce) with an extra soft
     // CustomNonbondedForce (whose cutoff makes OpenMM reorder the atoms): the conservative stress of
     // those forces is DPDConservativeVirial's, at positions read back at each step's end, added to the
@@ -132,7 +132,7 @@ TEST(OpenCLStress, SamplesWithBondsAnglesAndACustomPairMatchReference) {
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::VV);
         integrator.setRandomNumberSeed(78);
         integrator.setStressAccumulation(true);
-        auto context = p == 0 ? openCLContext(system, integrator) : std::make_unique<Context>(system, integrator, platform("Reference"));
+        auto context = p == 0 ? gpuContext(system, integrator) : std::make_unique<Context>(system, integrator, platform("Reference"));
         context->setPositions(positions);
         context->setVelocities(start.velocities);
         integrator.step(3);
@@ -146,14 +146,14 @@ TEST(OpenCLStress, SamplesWithBondsAnglesAndACustomPairMatchReference) {
     // The same run without stress accumulation: the same bits.
     DPDIntegrator alone(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::VV);
     alone.setRandomNumberSeed(78);
-    auto plain = openCLContext(system, alone);
+    auto plain = gpuContext(system, alone);
     plain->setPositions(positions);
     plain->setVelocities(start.velocities);
     alone.step(3);
     EXPECT_TRUE(bitIdentical(snapshot(*plain), ends[0])); // accumulating stress left the trajectory alone
 }
 
-TEST(OpenCLStress, AForceWhoseStressIsNotUnderstoodIsRefusedAsOnTheCPU) {
+TEST(GPUStress, AForceWhoseStressIsNotUnderstoodIsRefusedAsOnTheCPU) {
     // The conservative stress of a force outside DPDConservativeVirial's terms (here an external field)
     // is refused before the first step, naming the force, on OpenCL as on the CPU.
     for (const char* platformName : {"CPU", "OpenCL"}) {
@@ -164,7 +164,7 @@ TEST(OpenCLStress, AForceWhoseStressIsNotUnderstoodIsRefusedAsOnTheCPU) {
         fluid.system->addForce(field);
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::ABOBA);
         integrator.setStressAccumulation(true);
-        auto context = std::string(platformName) == "CPU" ? makeContext(fluid, integrator, "CPU") : openCLContext(*fluid.system, integrator);
+        auto context = std::string(platformName) == "CPU" ? makeContext(fluid, integrator, "CPU") : gpuContext(*fluid.system, integrator);
         context->setPositions(fluid.positions);
         std::vector<Vec3> before = snapshot(*context).positions;
         EXPECT_TRUE(throwsMentioning([&] { integrator.step(1); }, {"force 1 (CustomExternalForce)", "not a potential"})) << platformName;
@@ -172,7 +172,7 @@ TEST(OpenCLStress, AForceWhoseStressIsNotUnderstoodIsRefusedAsOnTheCPU) {
     }
 }
 
-TEST(OpenCLStress, ABOBAPressureAgreesWithTheCPU) {
+TEST(GPUStress, ABOBAPressureAgreesWithTheCPU) {
     // ABOBA at gamma = 40.5, dt = 0.03, N = 375: the pressure tr(sigma)/3 of every part summed (the
     // O sweep's dissipative and random parts included), sampled as the mean over each 10 steps, 60
     // samples after 100 steps, on OpenCL (mixed) and on the CPU; the two means must agree within 5
@@ -184,7 +184,7 @@ TEST(OpenCLStress, ABOBAPressureAgreesWithTheCPU) {
         DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, DPDIntegrator::ABOBA);
         integrator.setRandomNumberSeed(21);
         integrator.setStressAccumulation(true);
-        auto context = p == 0 ? openCLContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
+        auto context = p == 0 ? gpuContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
         context->setPositions(start.fluid.positions);
         context->setVelocities(start.velocities);
         integrator.step(100);
@@ -225,7 +225,7 @@ BlockEstimate shearViscosity(Context& context, DPDIntegrator& integrator, double
 
 } // namespace
 
-TEST(OpenCLLeesEdwards, ShearViscosityAgreesWithTheCPU) {
+TEST(GPULeesEdwards, ShearViscosityAgreesWithTheCPU) {
     // The sheared soft fluid, N = 375 (L = 5), gamma = 40.5, kappa = 0.5, ABOBA at dt = 0.04: the viscosity
     // <sigma_xy>/kappa from the full stress (the sweep's relative velocities carry the streaming term
     // kappa r e_x e_y, the drift is the exact sheared flight, the images slide) on OpenCL and on the CPU,
@@ -243,7 +243,7 @@ TEST(OpenCLLeesEdwards, ShearViscosityAgreesWithTheCPU) {
         integrator.setRandomNumberSeed(31);
         integrator.setLeesEdwards(0.5);
         integrator.setStressAccumulation(true);
-        auto context = p == 0 ? openCLContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
+        auto context = p == 0 ? gpuContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
         context->setPositions(start.fluid.positions);
         context->setVelocities(start.velocities);
         viscosity[p] = shearViscosity(*context, integrator, 0.5, 200, 80, 25);
@@ -253,7 +253,7 @@ TEST(OpenCLLeesEdwards, ShearViscosityAgreesWithTheCPU) {
     EXPECT_GT(viscosity[0].mean, 5*viscosity[0].standardError); // resolved: a sign or a missing part would show
 }
 
-TEST(OpenCLLeesEdwards, StreamingProfileAgreesWithTheCPU) {
+TEST(GPULeesEdwards, StreamingProfileAgreesWithTheCPU) {
     // The lab-frame streaming profile <v_x>(y) of the sheared soft fluid (N = 375, L = 5, kappa = 0.5,
     // gamma = 40.5, ABOBA at dt = 0.04; 600 samples 4 steps apart after 200): its least-squares slope is
     // kappa (1 % + 5 SE) on both platforms, and its 8 bins on OpenCL agree with the CPU's (5 SE combined).
@@ -272,7 +272,7 @@ TEST(OpenCLLeesEdwards, StreamingProfileAgreesWithTheCPU) {
         DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.04, DPDIntegrator::ABOBA);
         integrator.setRandomNumberSeed(41);
         integrator.setLeesEdwards(kappa);
-        auto context = p == 0 ? openCLContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
+        auto context = p == 0 ? gpuContext(*start.fluid.system, integrator, "mixed") : makeContext(start, integrator, "CPU");
         context->setPositions(start.fluid.positions);
         context->setVelocities(start.velocities);
         zeroMomentum(*context); // a centre of mass moving along y would carry the profile with it
@@ -288,13 +288,13 @@ TEST(OpenCLLeesEdwards, StreamingProfileAgreesWithTheCPU) {
     }
 }
 
-TEST(OpenCLLeesEdwards, ShearedRunsRepeatBitForBitAndResumeFromCheckpoints) {
+TEST(GPULeesEdwards, ShearedRunsRepeatBitForBitAndResumeFromCheckpoints) {
     EquilibratedFluid start = equilibratedSoftFluid(300);
     auto run = [&](std::stringstream* checkpoint, bool resume) {
         DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, DPDIntegrator::S1);
         integrator.setRandomNumberSeed(8);
         integrator.setLeesEdwards(0.3);
-        auto context = openCLContext(*start.fluid.system, integrator, "mixed");
+        auto context = gpuContext(*start.fluid.system, integrator, "mixed");
         if (resume)
             context->loadCheckpoint(*checkpoint);
         else {
@@ -313,7 +313,7 @@ TEST(OpenCLLeesEdwards, ShearedRunsRepeatBitForBitAndResumeFromCheckpoints) {
     EXPECT_TRUE(bitIdentical(first, resumed)) << "checkpoint";
 }
 
-TEST(OpenCLLeesEdwards, ShearedPolymerKeepsMoleculesWholeAndAgreesWithTheCPU) {
+TEST(GPULeesEdwards, ShearedPolymerKeepsMoleculesWholeAndAgreesWithTheCPU) {
     // Chains of 5 beads joined by HarmonicBondForces that use no periodic boundary conditions (OpenMM's
     // default): the step wraps each chain whole, so the bonds never stretch across the box (on the host
     // platforms such bonds once heated the fluid 14-fold).  kappa = 0.5, ABOBA, dt = 0.03, gamma = 4.5:
@@ -338,7 +338,7 @@ TEST(OpenCLLeesEdwards, ShearedPolymerKeepsMoleculesWholeAndAgreesWithTheCPU) {
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.03, DPDIntegrator::ABOBA);
         integrator.setRandomNumberSeed(4);
         integrator.setLeesEdwards(0.5);
-        auto context = p == 0 ? openCLContext(system, integrator, "mixed")
+        auto context = p == 0 ? gpuContext(system, integrator, "mixed")
                               : std::make_unique<Context>(system, integrator, platform("CPU"));
         context->setPositions(positions);
         context->setVelocities(start.velocities);
