@@ -8,7 +8,7 @@
 #include "openmm/HarmonicAngleForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/VerletIntegrator.h"
-#include "openmmdpd/internal/DPDBondedForceBlock.h"
+#include "openmmdpd/internal/potential/DPDBondedForceBlock.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <cstring>
 #include <random>

@@ -3,7 +3,7 @@
 // OpenMM's own, the Laplacian is minus the divergence of OpenMM's forces, and the virial and its xy
 // component are minus OpenMM's energy derivative under a dilation and under a simple shear.
 #include "DPDTestSupport.h"
-#include "openmmdpd/internal/DPDBondedTerms.h"
+#include "openmmdpd/internal/potential/DPDBondedTerms.h"
 #include "openmmdpd/internal/DPDContextAccess.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/CustomAngleForce.h"

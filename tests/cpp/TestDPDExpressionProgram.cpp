@@ -2,7 +2,7 @@
 // Lepton's own to the bit (ParsedExpression::evaluate, which OpenMM's Reference kernels use), one at a
 // time or numLanes at a time, whatever the other lanes hold; an unknown variable is refused by name.
 #include "openmm/OpenMMException.h"
-#include "openmmdpd/internal/DPDExpressionProgram.h"
+#include "openmmdpd/internal/potential/DPDExpressionProgram.h"
 #include "lepton/Parser.h"
 #include <cstring>
 #include <gtest/gtest.h>

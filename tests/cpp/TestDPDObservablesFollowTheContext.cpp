@@ -4,7 +4,7 @@
 // that move the particles.  Each case is checked against OpenMM's own energy and forces.
 #include "DPDTestSupport.h"
 #include "openmmdpd/internal/DPDContextAccess.h"
-#include "openmmdpd/internal/DPDPairPotentialTerms.h"
+#include "openmmdpd/internal/potential/DPDPairPotentialTerms.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/VerletIntegrator.h"
 #include <thread>

@@ -12,7 +12,7 @@
 #include "openmm/internal/ContextImpl.h"
 #include "openmmdpd/DPDIntegrator.h"
 #include "openmmdpd/DPDTypePairTable.h"
-#include "openmmdpd/internal/DPDBondedTerms.h"
+#include "openmmdpd/internal/potential/DPDBondedTerms.h"
 #include <memory>
 #include <vector>
 

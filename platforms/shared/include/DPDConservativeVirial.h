@@ -3,8 +3,8 @@
 
 #include "openmm/Vec3.h"
 #include "openmm/internal/ContextImpl.h"
-#include "openmmdpd/internal/DPDBondedTerms.h"
-#include "openmmdpd/internal/DPDPairPotentialTerms.h"
+#include "openmmdpd/internal/potential/DPDBondedTerms.h"
+#include "openmmdpd/internal/potential/DPDPairPotentialTerms.h"
 #include <memory>
 #include <vector>
 

@@ -1,6 +1,6 @@
 #include "DPDLeesEdwardsFlow.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
-#include "openmmdpd/internal/DPDPairPotentialTerms.h"
+#include "openmmdpd/internal/potential/DPDPairPotentialTerms.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/System.h"
 #include "openmm/CustomAngleForce.h"

@@ -4,7 +4,7 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include "openmmdpd/internal/DPDForceImpl.h"
-#include "openmmdpd/internal/DPDPairPotentialTerms.h"
+#include "openmmdpd/internal/potential/DPDPairPotentialTerms.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include <algorithm>
 #include <utility>

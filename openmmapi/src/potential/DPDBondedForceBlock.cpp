@@ -1,6 +1,6 @@
 // Compiled with -ffast-math (see CMakeLists.txt) so that GCC calls the vector math library for acos;
 // nothing here tests for NaN or infinity (zero lengths are replaced before they are divided by).
-#include "openmmdpd/internal/DPDBondedForceBlock.h"
+#include "openmmdpd/internal/potential/DPDBondedForceBlock.h"
 #include "openmmdpd/internal/DPDMinimumImageFormula.h"
 #include "openmmdpd/internal/DPDVectorInstructions.h"
 #include <cmath>

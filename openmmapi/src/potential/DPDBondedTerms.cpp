@@ -1,4 +1,4 @@
-#include "openmmdpd/internal/DPDBondedTerms.h"
+#include "openmmdpd/internal/potential/DPDBondedTerms.h"
 #include "openmmdpd/internal/DPDPeriodicBox.h"
 #include "openmm/CustomAngleForce.h"
 #include "openmm/CustomBondForce.h"
@@ -8,8 +8,8 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/PeriodicTorsionForce.h"
 #include "openmm/RBTorsionForce.h"
-#include "openmmdpd/internal/DPDExpressionProgram.h"
-#include "openmmdpd/internal/DPDBondedForceBlock.h"
+#include "openmmdpd/internal/potential/DPDExpressionProgram.h"
+#include "openmmdpd/internal/potential/DPDBondedForceBlock.h"
 #include "lepton/ParsedExpression.h"
 #include "lepton/Parser.h"
 #include <algorithm>

@@ -1,5 +1,5 @@
-#include "openmmdpd/internal/DPDFiniteDifferenceEstimator.h"
-#include "openmmdpd/internal/DPDPairPotentialTerms.h"
+#include "openmmdpd/internal/potential/DPDFiniteDifferenceEstimator.h"
+#include "openmmdpd/internal/potential/DPDPairPotentialTerms.h"
 #include "openmm/Context.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"

@@ -1,4 +1,4 @@
-#include "openmmdpd/internal/DPDExpressionProgram.h"
+#include "openmmdpd/internal/potential/DPDExpressionProgram.h"
 #include "lepton/Operation.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
