@@ -1,8 +1,10 @@
 // The integrator's stress tensor (Shang 2021 eq. 3.3): its kinetic and conservative parts against the
 // virial pressure of DPDObservables, and in equilibrium (kappa = 0) vanishing off-diagonal averages
-// and dissipative + random parts that average to zero, with every scheme.
+// and dissipative + random parts that average to zero, with every scheme; on every platform, stress
+// accumulation leaving the trajectory alone and a force whose stress is not understood refused by name.
 
 #include "DPDTestSupport.h"
+#include "openmm/CustomExternalForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include <gtest/gtest.h>
 #include <cmath>
@@ -123,6 +125,49 @@ TEST_P(StressTensor, EquilibriumOffDiagonalsAndDissipativePlusRandomVanish) {
 
 INSTANTIATE_TEST_SUITE_P(AllSchemes, StressTensor, ::testing::ValuesIn(allSchemes),
                          [](const ::testing::TestParamInfo<std::string>& info) { return testName(info.param); });
+
+class StressOnEveryPlatform : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(StressOnEveryPlatform, AccumulatingStressLeavesTheTrajectoryAlone) {
+    // Observing never changes a trajectory: the same seed with and without stress accumulation gives the
+    // same bits, for a scheme whose stress comes from its force pass and O sweep (ABOBA), from its BBK
+    // sweep (S1) and from two O sweeps, the second reversed (BAOOAB).
+    EquilibratedFluid start = equilibratedSoftFluid(300);
+    for (const char* scheme : {"ABOBA", "S1", "BAOOAB"}) {
+        Snapshot runs[2];
+        for (int withStress = 0; withStress < 2; withStress++) {
+            DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, scheme);
+            integrator.setRandomNumberSeed(5);
+            integrator.setStressAccumulation(withStress == 1);
+            auto context = makeContext(start, integrator, GetParam());
+            integrator.step(60);
+            runs[withStress] = snapshot(*context);
+            if (withStress == 1) {
+                EXPECT_EQ(integrator.getStressStatistics().steps, 60);
+            }
+        }
+        EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << scheme;
+    }
+}
+
+TEST_P(StressOnEveryPlatform, AForceWhoseStressIsNotUnderstoodIsRefusedNamingIt) {
+    // The conservative stress of a force outside DPDConservativeVirial's terms (here an external field)
+    // is refused before the first step, naming the force, and the refused step leaves the particles alone.
+    SoftFluid fluid = makeSoftFluid(300, 3.0);
+    auto* field = new CustomExternalForce("0.1*x");
+    for (int i = 0; i < fluid.system->getNumParticles(); i++)
+        field->addParticle(i, {});
+    fluid.system->addForce(field);
+    DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.02, DPDIntegrator::ABOBA);
+    integrator.setStressAccumulation(true);
+    auto context = makeContext(fluid, integrator, GetParam());
+    std::vector<Vec3> before = snapshot(*context).positions;
+    EXPECT_TRUE(throwsMentioning([&] { integrator.step(1); }, {"force 1 (CustomExternalForce)", "not a potential"}));
+    EXPECT_TRUE(bitIdentical(snapshot(*context).positions, before)) << "the refused step moved the particles";
+}
+
+INSTANTIATE_TEST_SUITE_P(Platforms, StressOnEveryPlatform, ::testing::ValuesIn(loadedPlatforms()),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 TEST(StressTensorBadInput, ForcesTheStressCannotComputeAreNamed) {
     // Bonds, angles and torsions are understood (DPDBondedTerms); charges with PME are not.

@@ -2,6 +2,7 @@
 environment that runs pytest); test_installed_package.py checks that it is this tree's."""
 
 import importlib.util
+import os
 from pathlib import Path
 
 import openmm as mm
@@ -31,8 +32,42 @@ def pytest_collection_modifyitems(items) -> None:
             item.add_marker(pytest.mark.studies)
 
 
+# The GPU platform under test: OpenCL (pocl on the CPU where there is no GPU), or the platform
+# OPENMMDPD_GPU_PLATFORM names (CUDA on a GPU machine).
+GPU_PLATFORM = os.environ.get("OPENMMDPD_GPU_PLATFORM") or "OpenCL"
+
+
+def has_gpu_platform() -> bool:
+    return GPU_PLATFORM in [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
+
+
+def gpu_params(*values) -> list:
+    """The parameters (GPU_PLATFORM, *values), marked ``gpu``, where OpenMM has that platform; none where it has not."""
+    return [pytest.param(GPU_PLATFORM, *values, marks=pytest.mark.gpu)] if has_gpu_platform() else []
+
+
+def loaded_platform_names() -> list:
+    """Every platform a feature's test runs on, as the C++ suite's loadedPlatforms(): Reference, CPU and
+    the GPU platform where OpenMM has it (marked ``gpu``).  Its Contexts run in the platform's default
+    precision (mixed on a GPU) unless a test asks for round-off, as tests/cpp/PlatformPolicy.h says."""
+    return ["Reference", "CPU"] + gpu_params()
+
+
+def round_off_properties(platform: mm.Platform) -> dict:
+    """Context properties for a test of round-off: double precision on a GPU platform (whose default,
+    single, keeps velocities in float), none on the host platforms, which have no other."""
+    return {"Precision": "double"} if platform.getName() == GPU_PLATFORM else {}
+
+
 @pytest.fixture(params=["Reference", "CPU"])
 def platform(request) -> mm.Platform:
+    """A host platform: for the statistical tests, which on a GPU run against the CPU in tests/cpp/gpu."""
+    return mm.Platform.getPlatformByName(request.param)
+
+
+@pytest.fixture(params=loaded_platform_names())
+def loaded_platform(request) -> mm.Platform:
+    """Every loaded platform: for the tests of bits and of exact properties, the same body on each."""
     return mm.Platform.getPlatformByName(request.param)
 
 

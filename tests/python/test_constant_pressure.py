@@ -10,7 +10,6 @@ block means; measured here (CPU, seed 9): the density's standard error 0.004-0.0
 0.001).  5 standard errors of the difference bound it; a 2 % density error (a barostat at a pressure
 10 % off moves the density by 0.15) is more than 10 of them."""
 
-import os
 
 import numpy as np
 import openmm as mm
@@ -18,18 +17,11 @@ import openmm.unit as unit
 import pytest
 
 import openmmdpd as dpd
+from conftest import gpu_params
 
 N = 375  # box 5.0 nm at density 3: 3 cutoffs and more for the GPU platforms, also as the barostat breathes
 STEP = 0.04
 PRESSURE_UNIT = unit.kilojoule_per_mole / unit.nanometer**3 / unit.AVOGADRO_CONSTANT_NA
-
-
-def gpu_params(*values):
-    """The parameters (name, *values) of the GPU platform, OPENMMDPD_GPU_PLATFORM or OpenCL, marked
-    ``gpu``, where OpenMM has that platform; none where it has not."""
-    name = os.environ.get("OPENMMDPD_GPU_PLATFORM") or "OpenCL"
-    present = name in [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
-    return [pytest.param(name, *values, marks=pytest.mark.gpu)] if present else []
 
 
 def block_mean(samples, blocks=20):

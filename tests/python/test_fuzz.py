@@ -10,7 +10,6 @@ a bounded example count, small systems and at most a few steps per example."""
 
 import io
 import math
-import os
 
 import numpy as np
 import openmm as mm
@@ -20,13 +19,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import openmmdpd as dpd
+from conftest import GPU_PLATFORM, has_gpu_platform
 
 CLEAN_ERRORS = (mm.OpenMMException, TypeError, ValueError, OverflowError)
 FUZZ_EXAMPLES = 600
 # The OpenCL platform (pocl on the CPU where there is no GPU: each Context compiles its kernels, so fewer
 # examples; or the platform OPENMMDPD_GPU_PLATFORM names).
-GPU_PLATFORM = os.environ.get("OPENMMDPD_GPU_PLATFORM") or "OpenCL"
-HAS_GPU_PLATFORM = GPU_PLATFORM in [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
+HAS_GPU_PLATFORM = has_gpu_platform()
 GPU_EXAMPLES = 30
 
 # Numbers a hostile caller passes: boundaries and the unrepresentable.

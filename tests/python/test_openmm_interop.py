@@ -156,11 +156,11 @@ def test_force_added_to_system_is_owned_by_the_system():
     assert dpd.DPDForce.cast(system.getForce(0)).getDefaultCutoff() == 1.0
 
 
-def test_checkpoint_continuation_is_bit_identical(platform):
+def test_checkpoint_continuation_is_bit_identical(loaded_platform):
     system, positions = small_fluid()
     integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.05, "VV")
     integrator.setRandomNumberSeed(11)
-    context = mm.Context(system, integrator, platform)
+    context = mm.Context(system, integrator, loaded_platform)
     context.setPositions(positions)
     context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 11)
     integrator.step(20)

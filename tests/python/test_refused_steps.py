@@ -8,24 +8,15 @@ gives the bits that the same calls without the refused step give (so the integra
 random numbers and stored forces, was left alone too).  Before the fix ABOBA's first half-drift had
 moved the particles 0.11-0.14 nm when the force evaluation refused a DPDForce cutoff."""
 
-import os
 
 import numpy as np
 import openmm as mm
 import pytest
 
 import openmmdpd as dpd
+from conftest import loaded_platform_names
 
 N = 300  # box 4.64 nm at density 3: at least 3 cutoffs of 1 nm, as the GPU platforms' cell grid needs
-
-
-def platform_names():
-    """Reference, CPU and the GPU platform where OpenMM has it (marked ``gpu``)."""
-    names = ["Reference", "CPU"]
-    gpu = os.environ.get("OPENMMDPD_GPU_PLATFORM") or "OpenCL"
-    if gpu in [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]:
-        names.append(pytest.param(gpu, marks=pytest.mark.gpu))
-    return names
 
 
 def make_context(platform_name, scheme, shear_rate=0.0, stress=False):
@@ -79,7 +70,7 @@ REFUSALS = {
 }
 
 
-@pytest.mark.parametrize("platform_name", platform_names())
+@pytest.mark.parametrize("platform_name", loaded_platform_names())
 @pytest.mark.parametrize("scheme", list(dpd.SCHEMES))
 @pytest.mark.parametrize("refusal", list(REFUSALS))
 def test_a_refused_step_leaves_the_state_and_the_next_step_its_bits(platform_name, scheme, refusal):
@@ -100,7 +91,7 @@ def test_a_refused_step_leaves_the_state_and_the_next_step_its_bits(platform_nam
     assert_same_bits(snapshot(reference), snapshot(context), f"{scheme} on {platform_name}: the good steps after '{refusal}'")
 
 
-@pytest.mark.parametrize("platform_name", platform_names())
+@pytest.mark.parametrize("platform_name", loaded_platform_names())
 @pytest.mark.parametrize("scheme", ["ABOBA", "VV", "BAOOAB"])
 def test_cutoffs_no_step_could_use_are_refused_where_they_are_set(platform_name, scheme):
     """The probe's cases: a DPDForce cutoff that updateParametersInContext accepted (1.9 nm in the CPU's
@@ -138,7 +129,7 @@ def test_cutoffs_no_step_could_use_are_refused_where_they_are_set(platform_name,
     assert_same_bits(snapshot(reference), snapshot(context), f"{scheme} on {platform_name} after a valid cutoff")
 
 
-@pytest.mark.parametrize("platform_name", platform_names())
+@pytest.mark.parametrize("platform_name", loaded_platform_names())
 def test_a_refused_sheared_step_with_stress_leaves_the_state_and_takes_no_sample(platform_name):
     system, integrator, context = make_context(platform_name, "ABOBA", shear_rate=0.5, stress=True)
     _, reference_integrator, reference = make_context(platform_name, "ABOBA", shear_rate=0.5, stress=True)
@@ -160,7 +151,7 @@ def test_a_refused_sheared_step_with_stress_leaves_the_state_and_takes_no_sample
     np.testing.assert_array_equal(integrator.getStressStatistics().mean(), reference_integrator.getStressStatistics().mean())
 
 
-@pytest.mark.parametrize("platform_name", platform_names())
+@pytest.mark.parametrize("platform_name", loaded_platform_names())
 def test_a_coordinate_just_below_zero_keeps_its_pairs(platform_name):
     """x + L rounds to exactly L for x in [-1e-16, 0): the Reference platform's search (OpenMM's voxel
     hash) filed such a particle in a cell past the end and dropped all its pairs (the energy of this

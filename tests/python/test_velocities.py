@@ -6,7 +6,7 @@ import openmm.unit as unit
 import pytest
 
 import openmmdpd as dpd
-from conftest import small_fluid
+from conftest import round_off_properties, small_fluid
 
 
 def momentum_and_scale(context):
@@ -26,10 +26,10 @@ def uneven_masses_fluid(num_particles, seed=5):
     return system, positions
 
 
-def test_total_momentum_is_zero_where_openmm_leaves_some(platform):
+def test_total_momentum_is_zero_where_openmm_leaves_some(loaded_platform):
     system, positions = uneven_masses_fluid(2000)
     integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.02, "ABOBA")
-    context = mm.Context(system, integrator, platform)
+    context = mm.Context(system, integrator, loaded_platform, round_off_properties(loaded_platform))
     context.setPositions(positions)
     context.setVelocitiesToTemperature(dpd.REDUCED_TEMPERATURE, 11)
     openmm_momentum, scale, _ = momentum_and_scale(context)

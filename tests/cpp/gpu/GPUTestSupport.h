@@ -16,15 +16,6 @@
 
 namespace OpenMMDPDTest {
 
-/**
- * The GPU platform under test: OpenCL, or the one named by OPENMMDPD_GPU_PLATFORM (CUDA on a machine
- * with an NVIDIA GPU: the same tests then run on the CUDA plugin, which CI only compiles and links).
- */
-inline std::string gpuPlatformName() {
-    const char* name = std::getenv("OPENMMDPD_GPU_PLATFORM");
-    return name != nullptr && *name != '\0' ? name : "OpenCL";
-}
-
 inline std::unique_ptr<OpenMM::Context> gpuContext(const OpenMM::System& system, OpenMM::Integrator& integrator,
                                                       const std::string& precision = "double") {
     return std::make_unique<OpenMM::Context>(system, integrator, platform(gpuPlatformName()),

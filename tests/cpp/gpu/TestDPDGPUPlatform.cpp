@@ -1,8 +1,10 @@
-// The OpenCL platform (platforms/common, run here on the machine's OpenCL device: pocl on the CPU in
-// CI, so small systems only and nothing timed): DPDForce against Reference in every precision, VV's
-// step against Reference, every scheme's temperatures against the CPU platform's (also at the frictions
-// where OpenMM's own GPU DPDIntegrator heats the fluid), momentum, run-to-run bits, OpenMM's atom
-// reordering, checkpoints, and what the platform refuses.  Tolerances: see each test.
+// The GPU platform's own tests (platforms/common, run here on the machine's OpenCL device: pocl on the
+// CPU in CI, so small systems only and nothing timed): DPDForce against Reference in every precision,
+// VV's step against Reference, every scheme's temperatures against the CPU platform's (also at the
+// frictions where OpenMM's own GPU DPDIntegrator heats the fluid), step(n)
+// against n single steps, OpenMM's atom reordering, and what the platform refuses.  Momentum, run-to-run
+// bits, checkpoints and observers are tested once for every loaded platform (TestDPDIntegratorSchemes.cpp,
+// TestDPDCheckpointsAndSerialization.cpp, TestDPDCheckpointIntegrity.cpp; PlatformPolicy.h).  Tolerances: see each test.
 
 #include "GPUTestSupport.h"
 #include "openmm/CustomNonbondedForce.h"
@@ -15,7 +17,6 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
 using namespace OpenMM;
 using namespace OpenMMDPD;
@@ -179,47 +180,6 @@ TEST_P(GPUScheme, TemperaturesAgreeWithTheCPUAtEveryFriction) {
 INSTANTIATE_TEST_SUITE_P(Schemes, GPUScheme, ::testing::ValuesIn(allSchemes),
                          [](const ::testing::TestParamInfo<std::string>& info) { return testName(info.param); });
 
-TEST(GPUPlatform, MomentumIsConservedToRoundOffOver10000Steps) {
-    // Double precision: the conservative forces sum to exactly zero (fixed-point pair forces) and each
-    // sweep update adds and subtracts the same momentum, so P drifts only by the rounding of v += ...
-    // (~1e-16 |v| per particle and step: a random walk of ~1e-12 here).  Bound: 1e-9.
-    EquilibratedFluid start = equilibratedSoftFluid(300);
-    DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.04, DPDIntegrator::ABOBA);
-    integrator.setRandomNumberSeed(11);
-    auto context = gpuContext(*start.fluid.system, integrator);
-    context->setPositions(start.fluid.positions);
-    context->setVelocities(start.velocities);
-    auto momentum = [&] {
-        Vec3 p;
-        for (const Vec3& v : snapshot(*context).velocities)
-            p += v; // unit masses
-        return p;
-    };
-    Vec3 initial = momentum();
-    integrator.step(10000);
-    Vec3 change = momentum()-initial;
-    EXPECT_LT(std::sqrt(change.dot(change)), 1e-9);
-}
-
-TEST(GPUPlatform, RunsWithTheSameSeedAreBitIdentical) {
-    // No floating-point atomics, cells sorted by System index, counter-based random numbers: the same
-    // seed gives the same bits, whatever order the device's threads ran in.
-    EquilibratedFluid start = equilibratedSoftFluid(300);
-    for (const char* scheme : {"ABOBA", "S1", "VV", "BAOOAB"}) {
-        Snapshot runs[2];
-        for (Snapshot& run : runs) {
-            DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, scheme);
-            integrator.setRandomNumberSeed(5);
-            auto context = gpuContext(*start.fluid.system, integrator, "mixed");
-            context->setPositions(start.fluid.positions);
-            context->setVelocities(start.velocities);
-            integrator.step(150);
-            run = snapshot(*context);
-        }
-        EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << scheme;
-    }
-}
-
 TEST(GPUPlatform, StepNAndNSingleStepsGiveTheSameBits) {
     // Nothing of a step may depend on how the steps are split into calls: the device's record of an
     // unsound state is read after a call's last step only, and the scheme layer fuses across the steps
@@ -280,28 +240,6 @@ TEST(GPUPlatform, PerTypeParametersSurviveOpenMMsAtomReordering) {
     EXPECT_LT(relativeDifference(state.getForces(), expected.getForces()), 2e-5);
     TemperatureSamples sampled = sampleTemperatures(*context, integrator, 200, 5, false);
     EXPECT_TRUE(nearOne(sampled.kineticEstimate(), 0.04)) << "T_kin after reorders";
-}
-
-TEST(GPUPlatform, CheckpointContinuationIsBitIdentical) {
-    EquilibratedFluid start = equilibratedSoftFluid(300);
-    for (const char* scheme : {"VV", "S1", "ABOBA"}) {
-        DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
-        integrator.setRandomNumberSeed(9);
-        auto context = gpuContext(*start.fluid.system, integrator, "mixed");
-        context->setPositions(start.fluid.positions);
-        context->setVelocities(start.velocities);
-        integrator.step(40);
-        std::stringstream checkpoint;
-        context->createCheckpoint(checkpoint);
-        integrator.step(40);
-        Snapshot uninterrupted = snapshot(*context);
-
-        DPDIntegrator resumedIntegrator(reducedTemperature, 4.5, 1.0, 0.04, scheme);
-        auto resumed = gpuContext(*start.fluid.system, resumedIntegrator, "mixed");
-        resumed->loadCheckpoint(checkpoint);
-        resumedIntegrator.step(40);
-        EXPECT_TRUE(bitIdentical(snapshot(*resumed), uninterrupted)) << scheme;
-    }
 }
 
 TEST(GPUPlatform, WhatThePlatformCannotDoRaisesNamingIt) {
