@@ -91,7 +91,7 @@ study-full: build
 # the claims table with error bars and verdicts in claims-report/report.md; about 15-20 minutes on 2 cores.
 claims: build
 	$(PYTHON) -m openmmdpd_studies.efficiency examples/scenes/soft_fluid_gamma4.5.toml examples/scenes/soft_fluid_gamma200.toml \
-		examples/scenes/soft_fluid_gamma450.toml --budget claims --methods ABOBA BAOAB BAOOAB S1 S1-OU --workers 2 --out claims-report
+		examples/scenes/soft_fluid_gamma450.toml --budget claims --methods ABOBA BAOAB BAOOAB S1 S1-OU PAdL --workers 2 --out claims-report
 
 # The transport study (NEMD and matched Norton, friction and system-size scans): about 9 minutes on 2 cores
 # at the reduced budget.

@@ -26,7 +26,11 @@ namespace {
 /** Every scheme and its name, in enum order: the one list schemeFromName and schemeName read. */
 const std::pair<DPDIntegrator::Scheme, const char*> schemeNames[] = {
     {DPDIntegrator::VV, "VV"},       {DPDIntegrator::S1, "S1"},       {DPDIntegrator::ABOBA, "ABOBA"},
-    {DPDIntegrator::S1ExactOU, "S1-OU"}, {DPDIntegrator::BAOAB, "BAOAB"}, {DPDIntegrator::BAOOAB, "BAOOAB"}};
+    {DPDIntegrator::S1ExactOU, "S1-OU"}, {DPDIntegrator::BAOAB, "BAOAB"}, {DPDIntegrator::BAOOAB, "BAOOAB"},
+    {DPDIntegrator::PAdL, "PAdL"}};
+
+/** Boltzmann's constant in kJ/mol/K, OpenMM's value (SimTKOpenMMRealType.h). */
+constexpr double boltzmann = 0.00831446261815324;
 
 std::string listOfSchemes(bool withNumbers) {
     std::stringstream list;
@@ -104,6 +108,45 @@ DPDIntegrator::StressStatistics DPDIntegrator::getStressStatistics() const {
 void DPDIntegrator::resetStressStatistics() {
     if (context != nullptr)
         kernel.getAs<IntegrateDPDStepKernel>().resetStressStatistics();
+}
+
+void DPDIntegrator::setPAdLThermalMass(double mass) {
+    if (!std::isfinite(mass) || mass <= 0) {
+        std::stringstream message;
+        message << "DPDIntegrator: PAdL thermal mass = " << mass << " nm^2/amu is out of range; it must be finite and > 0";
+        throw OpenMMException(message.str());
+    }
+    padlThermalMass = mass;
+}
+
+void DPDIntegrator::setPAdLNoise(double sigma) {
+    if (std::isnan(sigma) || std::isinf(sigma)) {
+        std::stringstream message;
+        message << "DPDIntegrator: PAdL noise = " << sigma << " is out of range; it must be finite (>= 0, or < 0 for sqrt(2 gamma kT))";
+        throw OpenMMException(message.str());
+    }
+    padlNoise = sigma < 0.0 ? -1.0 : sigma;
+}
+
+double DPDIntegrator::getPAdLNoise() const {
+    return padlNoise >= 0.0 ? padlNoise : std::sqrt(2.0*getDefaultFriction()*boltzmann*temperature);
+}
+
+double DPDIntegrator::getAdaptiveFriction() const {
+    if (context == nullptr || scheme != PAdL)
+        return getDefaultFriction();
+    return kernel.getAs<const IntegrateDPDStepKernel>().getAdaptiveFriction();
+}
+
+DPDIntegrator::AdaptiveFrictionStatistics DPDIntegrator::getAdaptiveFrictionStatistics() const {
+    if (context == nullptr)
+        return AdaptiveFrictionStatistics();
+    return kernel.getAs<const IntegrateDPDStepKernel>().getAdaptiveFrictionStatistics();
+}
+
+void DPDIntegrator::resetAdaptiveFrictionStatistics() {
+    if (context != nullptr)
+        kernel.getAs<IntegrateDPDStepKernel>().resetAdaptiveFrictionStatistics();
 }
 
 void DPDIntegrator::clearForcing() {

@@ -18,7 +18,7 @@ from ._plugin import load_kernels as _load_kernels
 _load_kernels()
 
 from ._dpd_force import DPDForce  # noqa: E402
-from ._dpd_integrator import SCHEMES, DPDIntegrator, TransportStatistics  # noqa: E402
+from ._dpd_integrator import SCHEMES, AdaptiveFrictionStatistics, DPDIntegrator, TransportStatistics  # noqa: E402
 from ._openmmdpd import ColourDrift, ShearProfile, TwoDrifts  # noqa: E402
 from ._observables import (  # noqa: E402
     ConfigurationalSumsEstimate,
@@ -43,6 +43,7 @@ __all__ = [
     "DPDReporter",
     "SCHEMES",
     "TransportStatistics",
+    "AdaptiveFrictionStatistics",
     "ColourDrift",
     "TwoDrifts",
     "ShearProfile",

@@ -12,7 +12,7 @@ from ._class_names import check_cast
 from ._type_pairs import TypePairMethods
 from ._units import Number, value_in
 
-SCHEMES: Tuple[str, ...] = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB")
+SCHEMES: Tuple[str, ...] = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB", "PAdL")
 """The schemes a DPDIntegrator runs."""
 
 
@@ -50,6 +50,38 @@ class TransportStatistics(NamedTuple):
     def mean_forcing(self) -> float:
         """``forcing_sum / steps``, in kJ/mol/nm (NaN before the first step)."""
         return self.forcing_sum / self.steps if self.steps else float("nan")
+class AdaptiveFrictionStatistics(NamedTuple):
+    """PAdL's adaptive friction ``xi`` (amu/ps): sums over the steps since the Context was made or
+    resetAdaptiveFrictionStatistics() was called, one sample per step at the step's end.
+
+    Attributes
+    ----------
+    steps : int
+        Steps summed over.
+    sum : float
+        Sum of ``xi``, in amu/ps.
+    sum_of_squares : float
+        Sum of ``xi**2``, in (amu/ps)**2.
+    last : float
+        ``xi`` after the last step, in amu/ps.
+    """
+
+    steps: int
+    sum: float
+    sum_of_squares: float
+    last: float
+
+    @property
+    def mean(self) -> float:
+        """``<xi>`` in amu/ps (NaN before the first step); the invariant density's is the friction ``gamma``."""
+        return self.sum / self.steps if self.steps else float("nan")
+
+    @property
+    def variance(self) -> float:
+        """``Var xi`` over the steps, in (amu/ps)**2 (NaN before the first step); the invariant density's is ``kT / mu``."""
+        return self.sum_of_squares / self.steps - self.mean**2 if self.steps else float("nan")
+
+
 _FRICTION_UNIT = unit.amu / unit.picosecond
 
 
@@ -58,7 +90,9 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
     eqs. 2.9-2.13) or ABOBA ("ABOBA", eqs. 2.18-2.24) of Shang (2021), or the methods of its discussion
     after Figure 4: DPD-S1 with the exact OU sweep ("S1-OU"), BAOAB ("BAOAB": B A O A B, the O sweep
     at the half-drift positions) and its symmetric form ("BAOOAB": the second O sweep over the pairs in
-    reverse order).
+    reverse order); or PAdL ("PAdL"), the pairwise adaptive Langevin thermostat of Leimkuhler and Shang
+    (2016), whose friction ``xi`` adapts (B A D O D A B; see :meth:`setPAdLThermalMass`, the design
+    page ``padl``; Reference and CPU platforms).
 
     Per-type-pair frictions and cutoffs with ``setParticleType``/``addTypePair``.  The B step uses
     the total force of the Context, so any OpenMM force may supply the conservative part.  A step
@@ -77,7 +111,7 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
     step_size : float or Quantity
         The step size, in ps (> 0).
     scheme : str
-        ``"VV"``, ``"S1"``, ``"ABOBA"``, ``"S1-OU"``, ``"BAOAB"`` or ``"BAOOAB"``.
+        ``"VV"``, ``"S1"``, ``"ABOBA"``, ``"S1-OU"``, ``"BAOAB"``, ``"BAOOAB"`` or ``"PAdL"``.
     """
 
     def __init__(self, temperature: Number, friction: Number, cutoff: Number, step_size: Number,
@@ -202,6 +236,36 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
     def resetStressStatistics(self) -> None:
         """Start the stress sums afresh (e.g. after the flow has developed)."""
         _openmmdpd.integrator_reset_stress_statistics(self)
+
+    def setPAdLThermalMass(self, mass: Number) -> None:
+        """PAdL's thermal mass ``mu`` in nm**2/amu (finite, > 0; default 10): ``xi`` fluctuates about
+        ``gamma`` with variance ``kT / mu`` and relaxes faster the smaller ``mu`` is."""
+        _openmmdpd.integrator_set_padl_thermal_mass(self, value_in(mass, unit.nanometer**2 / unit.amu))
+
+    def getPAdLThermalMass(self) -> float:
+        """PAdL's thermal mass ``mu`` in nm**2/amu."""
+        return _openmmdpd.integrator_get_padl_thermal_mass(self)
+
+    def setPAdLNoise(self, sigma: Number) -> None:
+        """PAdL's noise amplitude ``sigma`` in amu nm ps**-1.5 (finite, >= 0), or a negative value (the
+        default) for ``sqrt(2 gamma kT)`` of the default friction, so that PAdL's mean friction is DPD's."""
+        _openmmdpd.integrator_set_padl_noise(self, value_in(sigma, unit.amu * unit.nanometer / unit.picosecond**1.5))
+
+    def getPAdLNoise(self) -> float:
+        """The noise amplitude PAdL uses, in amu nm ps**-1.5: the one set, or ``sqrt(2 gamma kT)``."""
+        return _openmmdpd.integrator_get_padl_noise(self)
+
+    def getAdaptiveFriction(self) -> float:
+        """PAdL's friction ``xi`` now, in amu/ps (the Context's; it starts at the default friction)."""
+        return _openmmdpd.integrator_get_adaptive_friction(self)
+
+    def getAdaptiveFrictionStatistics(self) -> AdaptiveFrictionStatistics:
+        """The sums of ``xi`` since the last reset (part of checkpoints; zeros for the other schemes)."""
+        return AdaptiveFrictionStatistics(*_openmmdpd.integrator_adaptive_friction_statistics(self))
+
+    def resetAdaptiveFrictionStatistics(self) -> None:
+        """Start the sums of ``xi`` afresh (e.g. after equilibration)."""
+        _openmmdpd.integrator_reset_adaptive_friction_statistics(self)
 
     def __repr__(self) -> str:
         return (f"<openmmdpd.DPDIntegrator scheme={self.getScheme()} T={self.getTemperature()} K "

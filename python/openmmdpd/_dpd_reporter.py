@@ -27,6 +27,7 @@ _NEEDS: Dict[str, str] = {
     "meanResponse": "with NEMD or Norton forcing (setNEMD or setNorton)",
     "nortonForcing": "running Norton dynamics (setNorton)",
     "meanNortonForcing": "running Norton dynamics (setNorton)",
+    "adaptiveFriction": "running the PAdL scheme",
 }
 
 Column = Tuple[str, Callable[[app.Simulation, openmm.State], float]]
@@ -105,6 +106,9 @@ class DPDReporter:
     meanNortonForcing : bool
         The running average of ``lambda`` (eq. 71), in kJ/mol/nm.  Needs Norton dynamics as
         ``nortonForcing`` does.
+    adaptiveFriction : bool
+        PAdL's adaptive friction ``xi`` after the last step, in amu/ps.  Needs an
+        :class:`openmmdpd.DPDIntegrator` whose scheme is ``"PAdL"``.
     separator : str
         Between columns.
     append : bool
@@ -115,7 +119,7 @@ class DPDReporter:
                  time: bool = False, kineticTemperature: bool = False, configurationalTemperature: bool = False,
                  virialPressure: bool = False, stress: bool = False, response: bool = False,
                  meanResponse: bool = False, nortonForcing: bool = False, meanNortonForcing: bool = False,
-                 separator: str = ",", append: bool = False) -> None:
+                 adaptiveFriction: bool = False, separator: str = ",", append: bool = False) -> None:
         if isinstance(reportInterval, bool) or not isinstance(reportInterval, (int, np.integer)) or reportInterval < 1:
             raise ValueError(f"reportInterval = {reportInterval!r} is out of range; it must be an integer >= 1")
         if not isinstance(separator, str) or not separator or "\n" in separator:
@@ -124,7 +128,7 @@ class DPDReporter:
             "step": step, "time": time, "kineticTemperature": kineticTemperature,
             "configurationalTemperature": configurationalTemperature, "virialPressure": virialPressure,
             "stress": stress, "response": response, "meanResponse": meanResponse,
-            "nortonForcing": nortonForcing, "meanNortonForcing": meanNortonForcing}
+            "nortonForcing": nortonForcing, "meanNortonForcing": meanNortonForcing, "adaptiveFriction": adaptiveFriction}
         if not any(self._requested.values()):
             raise ValueError("DPDReporter: no column asked for; set at least one of " + ", ".join(self._requested))
         self._reportInterval = int(reportInterval)
@@ -172,9 +176,11 @@ class DPDReporter:
             forcing = "runs no forcing" if mode == "none" else f"runs {mode} forcing"
             instead = {column: forcing for column in _NEEDS}
             instead["stress"] = "has stress accumulation off"
+            instead["adaptiveFriction"] = f"runs the {ours.getScheme()} scheme"
         met = {"stress": ours is not None and ours.getStressAccumulation(),
                "response": mode not in (None, "none"), "meanResponse": mode not in (None, "none"),
-               "nortonForcing": mode == "Norton", "meanNortonForcing": mode == "Norton"}
+               "nortonForcing": mode == "Norton", "meanNortonForcing": mode == "Norton",
+               "adaptiveFriction": ours is not None and ours.getScheme() == "PAdL"}
         return [f"DPDReporter: column '{column}' needs an openmmdpd.DPDIntegrator {_NEEDS[column]}; "
                 f"the Simulation's integrator {instead[column]}"
                 for column in _NEEDS if self._requested[column] and not met[column]]
@@ -219,6 +225,8 @@ class DPDReporter:
             columns.append(("Norton forcing lambda", lambda sim, state: integrator.getNortonForcing()[0]))
         if wanted["meanNortonForcing"]:
             columns.append(("Mean Norton forcing lambda", lambda sim, state: integrator.getNortonForcing()[1]))
+        if wanted["adaptiveFriction"]:
+            columns.append(("Adaptive friction xi (amu/ps)", lambda sim, state: integrator.getAdaptiveFriction()))
         return columns
 
     def _notice_stress_reset(self) -> None:

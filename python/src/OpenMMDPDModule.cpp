@@ -163,6 +163,17 @@ NB_MODULE(_openmmdpd, m) {
     });
     m.def("integrator_reset_stress_statistics", [](nb::handle proxy) { integratorOf(proxy).resetStressStatistics(); });
 
+    m.def("integrator_set_padl_thermal_mass", [](nb::handle proxy, double mu) { integratorOf(proxy).setPAdLThermalMass(mu); });
+    m.def("integrator_get_padl_thermal_mass", [](nb::handle proxy) { return integratorOf(proxy).getPAdLThermalMass(); });
+    m.def("integrator_set_padl_noise", [](nb::handle proxy, double sigma) { integratorOf(proxy).setPAdLNoise(sigma); });
+    m.def("integrator_get_padl_noise", [](nb::handle proxy) { return integratorOf(proxy).getPAdLNoise(); });
+    m.def("integrator_get_adaptive_friction", [](nb::handle proxy) { return integratorOf(proxy).getAdaptiveFriction(); });
+    m.def("integrator_adaptive_friction_statistics", [](nb::handle proxy) {
+        DPDIntegrator::AdaptiveFrictionStatistics s = integratorOf(proxy).getAdaptiveFrictionStatistics();
+        return std::make_tuple(s.steps, s.sum, s.sumOfSquares, s.last);
+    });
+    m.def("integrator_reset_adaptive_friction_statistics", [](nb::handle proxy) { integratorOf(proxy).resetAdaptiveFrictionStatistics(); });
+
     m.def("configurational_sums", [](nb::handle context) {
         DPDObservables::ConfigurationalSums sums = DPDObservables::configurationalSums(contextOf(context));
         return std::make_tuple(sums.gradientSquared, sums.laplacian);

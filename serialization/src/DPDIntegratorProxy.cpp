@@ -23,6 +23,8 @@ void DPDIntegratorProxy::serialize(const void* object, OpenMM::SerializationNode
     node.setIntProperty("randomSeed", integrator.getRandomNumberSeed());
     node.setDoubleProperty("shearRate", integrator.getShearRate());
     node.setBoolProperty("stressAccumulation", integrator.getStressAccumulation());
+    node.setDoubleProperty("padlThermalMass", integrator.getPAdLThermalMass());
+    node.setDoubleProperty("padlNoise", integrator.hasPAdLNoise() ? integrator.getPAdLNoise() : -1.0); // < 0: sqrt(2 gamma kT)
     DPDTypePairTableSerializer::write(integrator.getTable(), "friction", node);
     if (integrator.getForcingMode() != DPDIntegrator::NoForcing) {
         OpenMM::SerializationNode& forcing = node.createChildNode("Forcing");
@@ -47,6 +49,8 @@ void* DPDIntegratorProxy::deserialize(const OpenMM::SerializationNode& node) con
     integrator->setRandomNumberSeed(attributes.integer("randomSeed"));
     integrator->setLeesEdwards(attributes.real("shearRate", 0.0)); // absent in files written before Lees-Edwards
     integrator->setStressAccumulation(attributes.boolean("stressAccumulation", false));
+    integrator->setPAdLThermalMass(attributes.real("padlThermalMass", 10.0)); // absent in files written before PAdL
+    integrator->setPAdLNoise(attributes.real("padlNoise", -1.0));
     DPDTypePairTableSerializer::read(node, "friction", "DPDIntegratorProxy", integrator->getTable());
     for (const OpenMM::SerializationNode& forcing : node.getChildren()) {
         if (forcing.getName() != "Forcing")

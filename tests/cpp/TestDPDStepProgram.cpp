@@ -14,11 +14,13 @@ namespace {
 
 std::vector<DPDStepProgram::Options> everyDefinedCombination() {
     std::vector<DPDStepProgram::Options> all;
-    for (auto scheme : {DPDIntegrator::VV, DPDIntegrator::S1, DPDIntegrator::ABOBA})
+    for (auto scheme : {DPDIntegrator::VV, DPDIntegrator::S1, DPDIntegrator::ABOBA, DPDIntegrator::PAdL})
         for (auto forcing : {DPDIntegrator::NoForcing, DPDIntegrator::NEMD, DPDIntegrator::Norton})
             for (bool sheared : {false, true})
                 for (bool frictionless : {false, true}) {
                     if (forcing != DPDIntegrator::NoForcing && (scheme != DPDIntegrator::ABOBA || sheared))
+                        continue;
+                    if (scheme == DPDIntegrator::PAdL && frictionless) // refused: PAdL's friction must be > 0 (checkFrictionTable)
                         continue;
                     DPDStepProgram::Options options;
                     options.scheme = scheme;
@@ -107,6 +109,28 @@ TEST(StepProgram, ABOBAIsTheOrderOfEquations219To224) {
     EXPECT_EQ(std::string(program.back().equation), "2.24");
 }
 
+TEST(StepProgram, PAdLIsBADODABWithTheAdaptiveSweepBetweenItsTwoHalfDs) {
+    // B A D O D A B (padl.rst): the pairs at the half-drift positions, xi advanced by h/2 on each side of
+    // the O sweep, which alone reads xi, recorded before the last A, and the closing kick kept.
+    DPDStepProgram::Options options;
+    options.scheme = DPDIntegrator::PAdL;
+    std::vector<Op> program = DPDStepProgram::of(options);
+    std::vector<Op::Kind> expected = {Op::ForcesAtStart, Op::Kick, Op::Drift, Op::FindPairs, Op::AdaptFriction, Op::OrnsteinUhlenbeckSweep,
+                                      Op::AdaptFriction, Op::RecordAdaptiveFriction, Op::Drift, Op::EvaluateForces, Op::Kick};
+    ASSERT_EQ(program.size(), expected.size()) << DPDStepProgram::describe(program);
+    for (std::size_t k = 0; k < expected.size(); k++) {
+        EXPECT_EQ(program[k].kind, expected[k]) << DPDStepProgram::describe(program);
+        EXPECT_EQ(program[k].adaptiveFriction, program[k].kind == Op::OrnsteinUhlenbeckSweep) << k;
+    }
+    EXPECT_DOUBLE_EQ(totalFraction(program, [](const Op& o) { return o.kind == Op::AdaptFriction; }), 1.0);
+    EXPECT_TRUE(program.back().keepForNextStep);
+    // The other schemes never adapt.
+    for (const DPDStepProgram::Options& other : everyDefinedCombination())
+        if (other.scheme != DPDIntegrator::PAdL)
+            for (const Op& operation : DPDStepProgram::of(other))
+                EXPECT_TRUE(operation.kind != Op::AdaptFriction && !operation.adaptiveFriction) << nameOf(other);
+}
+
 TEST(StepProgram, LeavesOutWhatASceneDoesNotNeed) {
     // No O sweep at zero friction, no Lees-Edwards operation without shear, no forcing operation without forcing.
     for (const DPDStepProgram::Options& options : everyDefinedCombination())
@@ -118,7 +142,9 @@ TEST(StepProgram, LeavesOutWhatASceneDoesNotNeed) {
             if (!options.sheared) {
                 EXPECT_NE(operation.kind, Op::MoveImages);
             }
-            bool forcingOperation = operation.kind >= Op::EvaluateForcingField;
+            bool forcingOperation = operation.kind == Op::EvaluateForcingField || operation.kind == Op::ForcingImpulse ||
+                                    operation.kind == Op::NortonProjection || operation.kind == Op::NortonDissipation ||
+                                    operation.kind == Op::NortonRecord || operation.kind == Op::SampleResponse;
             EXPECT_EQ(forcingOperation && options.forcing == DPDIntegrator::NoForcing, false);
             if (options.forcing != DPDIntegrator::Norton) {
                 EXPECT_TRUE(operation.kind != Op::NortonProjection && operation.kind != Op::NortonDissipation);

@@ -53,6 +53,14 @@ def loaded_platform_names() -> list:
     return ["Reference", "CPU"] + gpu_params()
 
 
+def platforms_and_schemes() -> list:
+    """(platform, scheme) for every loaded platform and every scheme it runs (the GPU pairs marked
+    ``gpu``): PAdL on the host platforms only, as yet."""
+    host = [(name, scheme) for name in ("Reference", "CPU") for scheme in dpd.SCHEMES]
+    gpu = [pytest.param(GPU_PLATFORM, scheme, marks=pytest.mark.gpu) for scheme in dpd.SCHEMES if scheme != "PAdL"]
+    return host + (gpu if has_gpu_platform() else [])
+
+
 def round_off_properties(platform: mm.Platform) -> dict:
     """Context properties for a test of round-off: double precision on a GPU platform (whose default,
     single, keeps velocities in float), none on the host platforms, which have no other."""

@@ -14,7 +14,7 @@ import openmm as mm
 import pytest
 
 import openmmdpd as dpd
-from conftest import loaded_platform_names
+from conftest import loaded_platform_names, platforms_and_schemes
 
 N = 300  # box 4.64 nm at density 3: at least 3 cutoffs of 1 nm, as the GPU platforms' cell grid needs
 
@@ -70,8 +70,7 @@ REFUSALS = {
 }
 
 
-@pytest.mark.parametrize("platform_name", loaded_platform_names())
-@pytest.mark.parametrize("scheme", list(dpd.SCHEMES))
+@pytest.mark.parametrize("platform_name, scheme", platforms_and_schemes())
 @pytest.mark.parametrize("refusal", list(REFUSALS))
 def test_a_refused_step_leaves_the_state_and_the_next_step_its_bits(platform_name, scheme, refusal):
     spoil, mend, message = REFUSALS[refusal]

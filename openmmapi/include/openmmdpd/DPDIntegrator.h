@@ -29,6 +29,18 @@ namespace OpenMMDPD {
  *  - BAOOAB B(h/2) A(h/2) O(h/2) O(h/2) A(h/2) B(h/2): BAOAB made symmetric, the second O sweep over
  *           the pairs in the reverse order of the first.
  *
+ * and the adaptive method the paper leaves open (section 4):
+ *
+ *  - PAdL   the pairwise adaptive Langevin thermostat (Leimkuhler & Shang, J. Comput. Phys. 324, 2016):
+ *           the friction becomes a dynamical variable xi with thermal mass mu, the noise amplitude sigma
+ *           stays fixed, and d xi = mu^-1 sum_{i<j} w^2 [(e.u)^2 - kT/m_ij] dt feeds back the pairs'
+ *           relative kinetic energy, so that xi absorbs a discretisation's heating or cooling.  The step
+ *           is B(h/2) A(h/2) D(h/2) O(h) D(h/2) A(h/2) B(h/2): D advances xi over the pairs at the
+ *           half-drift positions, O is the exact pairwise OU sweep with friction xi and noise sigma.
+ *           The invariant density is exp(-beta H) exp(-beta mu (xi - gamma)^2 / 2), gamma = beta sigma^2/2
+ *           (docs/design/padl.rst): q and p are canonical, xi is Gaussian about gamma with variance kT/mu.
+ *           One friction for every pair: type pairs may set their cutoffs, not frictions of their own.
+ *
  * The pairwise dissipative force is -gamma w(r)^2 (e.v) e and the random force sigma w(r) e dW with
  * w(r) = 1 - r/r_c and sigma^2 = 2 gamma kT (eqs. 1.1-1.5).  The friction gamma (amu/ps) and the
  * dissipative cutoff r_c (nm) have defaults and per-type-pair overrides, as in OpenMM's own
@@ -61,7 +73,7 @@ namespace OpenMMDPD {
  */
 class DPDIntegrator : public OpenMM::Integrator {
 public:
-    enum Scheme { VV = 0, S1 = 1, ABOBA = 2, S1ExactOU = 3, BAOAB = 4, BAOOAB = 5 };
+    enum Scheme { VV = 0, S1 = 1, ABOBA = 2, S1ExactOU = 3, BAOAB = 4, BAOOAB = 5, PAdL = 6 };
     enum ForcingMode { NoForcing = 0, NEMD = 1, Norton = 2 };
     /** Sums over the steps since the last reset: NEMD's response R, Norton's forcing lambda. */
     struct TransportStatistics {
@@ -89,6 +101,16 @@ public:
     };
 
     /**
+     * PAdL's adaptive friction xi (amu/ps): its value at the end of the latest step, and sums over the
+     * steps since the last reset (one sample per step, at the step's end), for <xi> and Var xi.
+     */
+    struct AdaptiveFrictionStatistics {
+        long long steps = 0;
+        double sum = 0.0, sumOfSquares = 0.0;
+        double last = 0.0;
+    };
+
+    /**
      * @param temperature      the temperature T (K) of the heat bath; > 0
      * @param defaultFriction  the friction gamma (amu/ps) of type pairs without override; >= 0
      * @param defaultCutoff    the dissipative cutoff r_c (nm) of those type pairs; at least 1e-3 nm
@@ -96,7 +118,7 @@ public:
      * @param scheme           the splitting scheme
      */
     DPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize, Scheme scheme = ABOBA);
-    /** The same, with the scheme given by name: "VV", "S1", "ABOBA", "S1-OU", "BAOAB" or "BAOOAB". */
+    /** The same, with the scheme given by name: "VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB" or "PAdL". */
     DPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize, const std::string& scheme);
 
     static Scheme schemeFromName(const std::string& name);
@@ -158,6 +180,27 @@ public:
     void resetTransportStatistics();
 
     /**
+     * PAdL's thermal mass mu (nm^2/amu; finite, > 0; default 10): xi fluctuates about gamma with variance
+     * kT/mu, and relaxes faster the smaller mu is.  Set on a bound integrator, it acts from the next step.
+     */
+    void setPAdLThermalMass(double mass);
+    double getPAdLThermalMass() const { return padlThermalMass; }
+    /**
+     * PAdL's noise amplitude sigma (amu nm ps^-3/2; finite, >= 0), or a negative value (the default) for
+     * sqrt(2 gamma kT) of the default friction gamma, so that PAdL's mean friction is DPD's.
+     */
+    void setPAdLNoise(double sigma);
+    /** The noise amplitude PAdL uses: the one set, or sqrt(2 gamma kT) of the default friction. */
+    double getPAdLNoise() const;
+    /** Whether a noise amplitude was set (setPAdLNoise with sigma >= 0) rather than following the friction. */
+    bool hasPAdLNoise() const { return padlNoise >= 0.0; }
+    /** PAdL's friction xi now: the Context's (it starts at the default friction), or the default friction when unbound. */
+    double getAdaptiveFriction() const;
+    /** Sums of xi since the Context was made or resetAdaptiveFrictionStatistics() was called (PAdL; zeros otherwise). */
+    AdaptiveFrictionStatistics getAdaptiveFrictionStatistics() const;
+    void resetAdaptiveFrictionStatistics();
+
+    /**
      * Lees-Edwards shear flow with shear rate kappa (1/ps; finite, >= 0; 0 is a plain periodic box, the
      * default).  Needs a periodic System whose box is a = (L_x, 0, 0), b = (b_x, L_y, 0), c = (0, 0, L_z)
      * with |b_x| <= L_x/2 and every cutoff at most L_y/2; checked when the Context is made and at each step.
@@ -207,6 +250,8 @@ private:
     double forcingStrength = 0.0;
     double shearRate = 0.0;
     bool accumulateStress = false;
+    double padlThermalMass = 10.0;
+    double padlNoise = -1.0; // < 0: sqrt(2 gamma kT) of the default friction
     DPDTypePairTable table;
     OpenMM::Kernel kernel;
 };

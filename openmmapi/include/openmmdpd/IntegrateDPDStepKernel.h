@@ -36,6 +36,10 @@ public:
     virtual void resetTransportStatistics() = 0;
     /** Restart the pairwise random numbers from `seed` (0: a new seed) from the next step on. */
     virtual void setRandomNumberSeed(int seed) = 0;
+    /** PAdL's friction xi now (the default friction before the first step). */
+    virtual double getAdaptiveFriction() const = 0;
+    virtual DPDIntegrator::AdaptiveFrictionStatistics getAdaptiveFrictionStatistics() const = 0;
+    virtual void resetAdaptiveFrictionStatistics() = 0;
     virtual DPDIntegrator::StressStatistics getStressStatistics() const = 0;
     virtual void resetStressStatistics() = 0;
     /**

@@ -47,6 +47,7 @@ public:
     double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
                                           const std::vector<OpenMM::Vec3>* response) override;
     void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) override;
+    double sumPairwiseFrictionFeedback(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities) override;
     void addDissipativeAndRandomForces(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities,
                                        std::vector<OpenMM::Vec3>& forces) override;
     void keepForcesSorted(bool keep) override { search.keepForcesSorted(keep); }

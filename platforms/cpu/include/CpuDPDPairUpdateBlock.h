@@ -19,7 +19,12 @@ namespace OpenMMDPD {
  */
 class alignas(64) CpuDPDPairUpdateBlock { // one per thread, each on cache lines of its own
 public:
-    enum Kind { OrnsteinUhlenbeck, BBK, DissipativeAndRandomForce };
+    /**
+     * What a block's (slope, offset) are: the exact OU update (ABOBA), PAdL's adaptive OU update (xi and
+     * sigma from the sweep), the BBK update (S1), VV's F^D + F^R, or PAdL's friction feedback terms
+     * (slope u^2 + offset = w^2 [u^2 - kT/m_ij], frictionFeedbackTerms of DPDPairFormulas.h).
+     */
+    enum Kind { OrnsteinUhlenbeck, BBK, DissipativeAndRandomForce, AdaptiveOrnsteinUhlenbeck, FrictionFeedback };
     static constexpr std::size_t blockSize = 8;
 
     /**

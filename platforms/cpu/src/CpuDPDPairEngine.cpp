@@ -318,9 +318,49 @@ double CpuDPDPairEngine::sweepVelocities(const DPDPairSweep& sweep, CpuDPDPairUp
     return responseOfDissipation;
 }
 
+namespace {
+/** The O sweep's kind of block: the table's exact OU, or PAdL's with xi and sigma. */
+CpuDPDPairUpdateBlock::Kind ornsteinUhlenbeckKind(const DPDPairSweep& sweep) {
+    return sweep.adaptive ? CpuDPDPairUpdateBlock::AdaptiveOrnsteinUhlenbeck : CpuDPDPairUpdateBlock::OrnsteinUhlenbeck;
+}
+} // namespace
+
 double CpuDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<Vec3>& velocities,
                                                         const std::vector<Vec3>* response) {
-    return sweepVelocities(sweep, CpuDPDPairUpdateBlock::OrnsteinUhlenbeck, velocities, response);
+    return sweepVelocities(sweep, ornsteinUhlenbeckKind(sweep), velocities, response);
+}
+
+double CpuDPDPairEngine::sumPairwiseFrictionFeedback(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities) {
+    // The blocks of the sweeps, each pair's terms w^2 and -w^2 kT/m_ij in (slope, offset), read-only:
+    // every cell's sum in its pairs' order, then the cells in the sweep's order, whatever the threads.
+    const std::vector<int>& original = grid.sortedToOriginal;
+    sortedVelocities.resize(original.size());
+    cellResponse.assign(grid.getNumCells(), 0.0);
+    auto gather = [&](int begin, int end) {
+        for (int s = begin; s < end; s++)
+            sortedVelocities[s] = velocities[original[s]];
+    };
+    auto apply = [&](int, const PairRun* runs) {
+        for (int run = 0; run < numStreams; run++)
+            for (int k = runs[run].cellBegin; k < runs[run].cellEnd; k++) {
+                int cell = grid.cellsInSweepOrder[k], blockStart = runs[run].pairBegin;
+                const PairBuffer& pairs = buffers[runs[run].buffer];
+                const CpuDPDPairUpdateBlock& block = *runs[run].block;
+                double sum = 0.0;
+                for (int p = cellPairBegin[cell]; p < cellPairEnd[cell]; p++) {
+                    int a = pairs.i[p], b = pairs.j[p], n = p-blockStart;
+                    Vec3 e(block.ex[n], block.ey[n], block.ez[n]);
+                    double u = e.dot(sortedVelocities[a]-sortedVelocities[b]) + leesEdwardsRelativeVelocity(sweep.shearRate, block.r[n], e[0], e[1]);
+                    sum += dpdFrictionFeedback(dpdPairUpdate(block.slope[n], block.offset[n]), u);
+                }
+                cellResponse[cell] = sum;
+            }
+    };
+    sweepByColour(sweep, CpuDPDPairUpdateBlock::FrictionFeedback, gather, apply, [](int) {});
+    double sum = 0.0;
+    for (int cell : grid.cellsInSweepOrder)
+        sum += cellResponse[cell];
+    return sum;
 }
 
 void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<Vec3>& velocities) {
@@ -329,7 +369,7 @@ void CpuDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<V
 
 bool CpuDPDPairEngine::sweepBetweenKeptForceKicks(bool bbk, const DPDPairSweep& sweep, double kickDt, std::vector<Vec3>& velocities) {
     bool finite = true;
-    sweepVelocities(sweep, bbk ? CpuDPDPairUpdateBlock::BBK : CpuDPDPairUpdateBlock::OrnsteinUhlenbeck, velocities, nullptr, kickDt, &finite);
+    sweepVelocities(sweep, bbk ? CpuDPDPairUpdateBlock::BBK : ornsteinUhlenbeckKind(sweep), velocities, nullptr, kickDt, &finite);
     return finite;
 }
 

@@ -38,7 +38,7 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
     const double ax = box[0][0], bx = box[1][0], by = box[1][1], cx = box[2][0], cy = box[2][1], cz = box[2][2];
     const double inverseAx = 1.0/ax, inverseBy = 1.0/by, inverseCz = 1.0/cz;
     const std::uint64_t randomKey = sweep.randomKey;
-    const double kT = sweep.kT, dt = sweep.dt;
+    const double kT = sweep.kT, dt = sweep.dt, xi = sweep.adaptiveFriction, sigma = sweep.adaptiveNoise;
     const double uniformInverseMass = particles.uniformInverseMass;
     const double uniformReducedMass = 1.0/(uniformInverseMass+uniformInverseMass);
     for (std::size_t block = 0; block < numBlocks; block++) {
@@ -79,6 +79,9 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
         for (int n = 0; n < B; n++) {
             DPDPairUpdate update = kind == CpuDPDPairUpdateBlock::OrnsteinUhlenbeck ?
                     exactOrnsteinUhlenbeckUpdate(gamma[n], w[n], invReducedMass[n], reducedMass[n], kT, dt, squaredRadius[n], cosine[n]) :
+                kind == CpuDPDPairUpdateBlock::AdaptiveOrnsteinUhlenbeck ?
+                    adaptiveOrnsteinUhlenbeckUpdate(xi, sigma, w[n], invReducedMass[n], reducedMass[n], dt, squaredRadius[n], cosine[n]) :
+                kind == CpuDPDPairUpdateBlock::FrictionFeedback ? frictionFeedbackTerms(w[n], invReducedMass[n], kT) :
                 kind == CpuDPDPairUpdateBlock::BBK ? bbkUpdate(gamma[n], w[n], invReducedMass[n], kT, dt, std::sqrt(squaredRadius[n])*cosine[n]) :
                     dissipativeAndRandomForce(gamma[n], w[n], kT, dt, std::sqrt(squaredRadius[n])*cosine[n]);
             slope[first+n] = update.slope*acts[n];
@@ -126,9 +129,11 @@ void CpuDPDPairUpdateBlock::compute(Kind kind, const DPDPairSweep& sweep, const 
             out->resize((wholeBlocks+1)*blockSize);
     if (sweep.stress != nullptr && relativeVelocity.size() < ex.size())
         relativeVelocity.resize(ex.size());
-    static const BlockPass passes[2][3] = {
-        {selectBlockPass<OrnsteinUhlenbeck, false>(), selectBlockPass<BBK, false>(), selectBlockPass<DissipativeAndRandomForce, false>()},
-        {selectBlockPass<OrnsteinUhlenbeck, true>(), selectBlockPass<BBK, true>(), selectBlockPass<DissipativeAndRandomForce, true>()}};
+    static const BlockPass passes[2][5] = {
+        {selectBlockPass<OrnsteinUhlenbeck, false>(), selectBlockPass<BBK, false>(), selectBlockPass<DissipativeAndRandomForce, false>(),
+         selectBlockPass<AdaptiveOrnsteinUhlenbeck, false>(), selectBlockPass<FrictionFeedback, false>()},
+        {selectBlockPass<OrnsteinUhlenbeck, true>(), selectBlockPass<BBK, true>(), selectBlockPass<DissipativeAndRandomForce, true>(),
+         selectBlockPass<AdaptiveOrnsteinUhlenbeck, true>(), selectBlockPass<FrictionFeedback, true>()}};
     BlockPass run = passes[particles.uniform][kind];
     run(wholeBlocks, sweep, particles, i, j, ex.data(), ey.data(), ez.data(), r.data(), slope.data(), offset.data());
     if (tail == 0)

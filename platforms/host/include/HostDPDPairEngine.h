@@ -55,6 +55,13 @@ struct DPDPairSweep {
     DPDPairStressSums* stress = nullptr;
     /** Sweep the pairs in the reverse of the engine's order (BAOOAB's second O sweep); the O and BBK sweeps only. */
     bool reversed = false;
+    /**
+     * PAdL: the O sweep takes every acting pair's friction to be adaptiveFriction (xi) and its noise
+     * amplitude adaptiveNoise (sigma), adaptiveOrnsteinUhlenbeckUpdate, instead of the table's gamma and
+     * sigma^2 = 2 gamma kT (the table still says which pairs act, and their cutoffs).
+     */
+    bool adaptive = false;
+    double adaptiveFriction = 0.0, adaptiveNoise = 0.0;
 };
 
 /**
@@ -94,6 +101,11 @@ public:
      */
     virtual double applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities,
                                                   const std::vector<OpenMM::Vec3>* response) = 0;
+    /**
+     * PAdL's D: sum_{i<j} w^2 [(e.u)^2 - kT/m_ij] over the acting pairs at these velocities (u lab-frame
+     * under shear), in a fixed order whatever the threads (docs/design/padl.rst eq. 3).
+     */
+    virtual double sumPairwiseFrictionFeedback(const DPDPairSweep& sweep, const std::vector<OpenMM::Vec3>& velocities) = 0;
     /** Shardlow's successive BBK sweep of DPD-S1 (eq. 2.12). */
     virtual void applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<OpenMM::Vec3>& velocities) = 0;
     /** VV's dissipative and random pair forces F^D + F^R (eqs. 2.2b, 2.2c) at these velocities, added to `forces`. */

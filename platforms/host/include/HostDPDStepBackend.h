@@ -54,6 +54,7 @@ public:
     void addDissipativeAndRandomForces(const DPDSweepRequest& sweep) override;
     void sweepBBK(const DPDSweepRequest& sweep) override;
     void sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep) override;
+    double sumFrictionFeedback() override;
     /** In the force-keeping engine's passes where it kept the forces; else the operations one after the other. */
     bool sweepBetweenKicks(DPDStepOperation::Kind kind, const DPDSweepRequest& sweep, double kickDt) override;
     bool kickWithKeptForces(double dt, int kicks, bool keepForces, const DPDSweepRequest* dissipativeAndRandom) override;
@@ -90,7 +91,8 @@ private:
     /** The parameters of a pair sweep (each sweep draws new random numbers). */
     DPDPairSweep pairSweep(const DPDSweepRequest& sweep) {
         return {friction, inverseMasses, uniformInverseMass, kT, sweep.dt, sweep.randomKey, leesEdwards.getShearRate(),
-                accumulateStress && sweep.gatherStress ? &stepPairStress : nullptr, sweep.reversed};
+                accumulateStress && sweep.gatherStress ? &stepPairStress : nullptr, sweep.reversed, sweep.adaptive,
+                sweep.adaptiveFriction, sweep.adaptiveNoise};
     }
     /** The latest forces: the Context's, or the copy stored for the next step. */
     std::vector<OpenMM::Vec3>& latestForces();

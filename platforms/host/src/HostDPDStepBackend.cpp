@@ -303,6 +303,10 @@ void HostDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep) {
         responseOfDissipation = response;
 }
 
+double HostDPDStepBackend::sumFrictionFeedback() {
+    return sweepEngine->sumPairwiseFrictionFeedback(pairSweep(DPDSweepRequest{0.0, 0, false}), arrays().velocities);
+}
+
 void HostDPDStepBackend::sweepBBK(const DPDSweepRequest& sweep) {
     sweepEngine->applyPairwiseBBK(pairSweep(sweep), arrays().velocities);
 }

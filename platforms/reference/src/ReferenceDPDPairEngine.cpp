@@ -76,8 +76,10 @@ double ReferenceDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep
                                                               const std::vector<Vec3>* response) {
     double responseOfDissipation = 0.0;
     sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double gamma, double invReducedMass, DPDBoxMuller R) {
-        DPDPairUpdate update = exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, 1.0/invReducedMass, sweep.kT, sweep.dt,
-                                                            R.squaredRadius, R.cosine);
+        DPDPairUpdate update = sweep.adaptive ? adaptiveOrnsteinUhlenbeckUpdate(sweep.adaptiveFriction, sweep.adaptiveNoise, w, invReducedMass,
+                                                                                1.0/invReducedMass, sweep.dt, R.squaredRadius, R.cosine)
+                                              : exactOrnsteinUhlenbeckUpdate(gamma, w, invReducedMass, 1.0/invReducedMass, sweep.kT, sweep.dt,
+                                                                             R.squaredRadius, R.cosine);
         double u = relativeVelocity(sweep, pair, velocities);
         Vec3 deltaP = pair.unit*dpdMomentumChange(update, u); // p_i += Delta p, p_j -= Delta p (eq. 2.17)
         velocities[pair.i] += deltaP*sweep.inverseMasses[pair.i];
@@ -87,6 +89,14 @@ double ReferenceDPDPairEngine::applyPairwiseOrnsteinUhlenbeck(const DPDPairSweep
             responseOfDissipation += dpdDissipativePart(update, u)*pair.unit.dot((*response)[pair.i]-(*response)[pair.j]);
     });
     return responseOfDissipation;
+}
+
+double ReferenceDPDPairEngine::sumPairwiseFrictionFeedback(const DPDPairSweep& sweep, const std::vector<Vec3>& velocities) {
+    double sum = 0.0;
+    sweepDissipativePairs(sweep, [&](const DPDPair& pair, double w, double, double invReducedMass, DPDBoxMuller) {
+        sum += dpdFrictionFeedback(frictionFeedbackTerms(w, invReducedMass, sweep.kT), relativeVelocity(sweep, pair, velocities));
+    });
+    return sum;
 }
 
 void ReferenceDPDPairEngine::applyPairwiseBBK(const DPDPairSweep& sweep, std::vector<Vec3>& velocities) {

@@ -89,6 +89,38 @@ DPD_FUNCTION DPDPairUpdate exactOrnsteinUhlenbeckUpdate(double gamma, double w, 
 }
 
 /**
+ * PAdL's O step (docs/design/padl.rst eq. 5): the exact solution over dt of
+ * m_ij du = -xi w^2 u dt + sigma w dW with the adaptive friction xi and a noise amplitude sigma of its
+ * own, u' = u exp(-tau dt) + (sigma w/m_ij) sqrt(dt s) R, tau = xi w^2/m_ij and
+ * s = (1 - exp(-2 tau dt))/(2 tau dt), which is 1 at xi = 0 (the noise alone) and positive for xi < 0
+ * too (then the pair's relative velocity grows, as PAdL's feedback asks of a cold fluid).  At xi = gamma
+ * and sigma^2 = 2 gamma kT it is exactOrnsteinUhlenbeckUpdate.  As a momentum change:
+ * Delta p = m_ij (exp(-tau dt) - 1) u + sigma w sqrt(dt s) R.
+ */
+DPD_FUNCTION DPDPairUpdate adaptiveOrnsteinUhlenbeckUpdate(double xi, double sigma, double w, double invReducedMass, double reducedMass,
+                                                          double dt, double squaredRadius, double cosine) {
+    double decayRate = xi*w*w*invReducedMass*dt; // tau dt
+    double decay = expm1(-decayRate);          // exp(-tau dt) - 1
+    double decay2 = decay*(decay+2.0);         // exp(-2 tau dt) - 1
+    double share = decayRate != 0.0 ? -decay2/(2.0*decayRate) : 1.0;
+    return dpdPairUpdate(reducedMass*decay, sigma*w*sqrt(dt*share*squaredRadius)*cosine);
+}
+
+/**
+ * PAdL's feedback of one pair on the friction (docs/design/padl.rst eq. 3), w^2 [u^2 - kT/m_ij], in the
+ * form slope u^2 + offset: slope = w^2, offset = -w^2 kT/m_ij, from positions and masses only, so that
+ * a pass can compute the terms of every pair first (as the sweeps' updates) and add u^2 after.
+ */
+DPD_FUNCTION DPDPairUpdate frictionFeedbackTerms(double w, double invReducedMass, double kT) {
+    return dpdPairUpdate(w*w, -w*w*kT*invReducedMass);
+}
+
+/** A pair's feedback w^2 [u^2 - kT/m_ij] from its terms and its relative velocity u along e_ij. */
+DPD_FUNCTION double dpdFrictionFeedback(DPDPairUpdate terms, double relativeVelocity) {
+    return terms.slope*relativeVelocity*relativeVelocity + terms.offset;
+}
+
+/**
  * Shardlow's pairwise BBK step (eq. 2.12) for general masses: K = gamma w^2 dt/2, J = sigma w sqrt(dt) R/2;
  * an explicit half step Delta_1 = -K u + J, then an implicit one Delta_2 = (J - K (u + Delta_1/m_ij))/(1 + K/m_ij)
  * (its denominator is the paper's 1 + 2K at unit mass), written as one affine map of u.

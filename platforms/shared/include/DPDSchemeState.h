@@ -14,13 +14,16 @@ namespace OpenMMDPD {
  * What a scheme carries from one step to the next, in one place for every platform: the random
  * stream (seed and sweep counter: every sweep's key is DPDPairRandom::sweepKey of the next count),
  * whether the forces stored at the previous step's end are still valid (S1 and VV start from them),
- * the transport sums, what a step left to the next one of the same call (DPDStepFusion), and the
+ * the transport sums, PAdL's adaptive friction, what a step left to the next one of the same call (DPDStepFusion), and the
  * checkpoint layout of all of it.
  */
 struct DPDSchemeState {
     DPDPairRandom random;
     unsigned long long sweepCounter = 0;
     DPDIntegrator::TransportStatistics transport;
+    /** PAdL: the adaptive friction xi (it starts at the default friction) and its sums. */
+    double adaptiveFriction = 0.0;
+    DPDIntegrator::AdaptiveFrictionStatistics adaptiveFrictionStatistics;
     /** The forces stored at the previous step's end belong to the current positions, box and parameters. */
     bool storedForcesValid = false;
     /** A checkpoint was just loaded: the state changes it reports do not invalidate its stored forces. */
@@ -34,7 +37,7 @@ struct DPDSchemeState {
     void reseed(int seed);
 
     /**
-     * Write the state: seed, sweep counter, transport and stress statistics, and the stored forces
+     * Write the state: seed, sweep counter, transport statistics, PAdL's friction and its sums, stress statistics, and the stored forces
      * with their box where `storedForces` is not empty (VV's depend on more than the positions).
      */
     void writeCheckpoint(std::ostream& stream, const DPDIntegrator::StressStatistics& stress, const std::vector<OpenMM::Vec3>& storedForces,

@@ -40,9 +40,15 @@ public:
     }
     /** Restart the pairwise random numbers from `seed` (0: a new seed) at the next step. */
     void setRandomNumberSeed(int seed) { state.reseed(seed); }
+    double getAdaptiveFriction() const { return state.adaptiveFriction; }
+    DPDIntegrator::AdaptiveFrictionStatistics getAdaptiveFrictionStatistics() const { return state.adaptiveFrictionStatistics; }
+    void resetAdaptiveFrictionStatistics() { state.adaptiveFrictionStatistics = DPDIntegrator::AdaptiveFrictionStatistics(); }
     DPDIntegrator::StressStatistics getStressStatistics() const { return backend->stressStatistics(); }
     void resetStressStatistics() { backend->resetStressStatistics(); }
-    void checkFrictionTable(const DPDTypePairTable& table) const { backend->compileFriction(table); }
+    void checkFrictionTable(const DPDTypePairTable& table) const {
+        DPDStepProgram::checkFrictionTable(scheme, table);
+        backend->compileFriction(table);
+    }
     /**
      * The message of a non-finite or runaway state (`what`: positions, velocities ...; particle -1:
      * unknown) found at `step`, for a backend that reports it after the step (the GPU platforms).
@@ -61,7 +67,13 @@ private:
     void execute(const DPDStepOperation& operation, const DPDFusedOperation& fused, int stepOffset);
     void executeFused(const std::vector<DPDStepOperation>& program, const DPDFusedOperation& fused);
     DPDSweepRequest sweepRequest(const DPDStepOperation& sweep) {
-        return {sweep.fraction*stepSize, state.nextSweepKey(), sweep.gatherStress, sweep.reversed, sweep.gatherResponse};
+        DPDSweepRequest request{sweep.fraction*stepSize, state.nextSweepKey(), sweep.gatherStress, sweep.reversed, sweep.gatherResponse};
+        if (sweep.adaptiveFriction) { // PAdL's O: xi and sigma
+            request.adaptive = true;
+            request.adaptiveFriction = state.adaptiveFriction;
+            request.adaptiveNoise = forcedIntegrator->getPAdLNoise();
+        }
+        return request;
     }
     /** Norton: F.G must not vanish (controllability, Wu & Shang after eq. 13). */
     double requireControllable(double forcingDotResponse) const;
@@ -75,7 +87,7 @@ private:
     std::vector<DPDStepOperation> program;
     bool programBuilt = false;
 
-    const DPDIntegrator* forcedIntegrator = nullptr; // NEMD and Norton, for the current step only
+    const DPDIntegrator* forcedIntegrator = nullptr; // NEMD, Norton and PAdL's parameters, for the current step only
     // The backend holds the transport sums (DPDStepBackend::writeTransport), as state.transport had them
     // when they were handed over; state.transport is brought up to date after every call.
     bool backendHasTransport = false;

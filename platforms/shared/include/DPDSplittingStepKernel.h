@@ -20,6 +20,11 @@ public:
     DPDIntegrator::TransportStatistics getTransportStatistics() const override { return dynamics->getTransportStatistics(); }
     void resetTransportStatistics() override { dynamics->resetTransportStatistics(); }
     void setRandomNumberSeed(int seed) override { dynamics->setRandomNumberSeed(seed); }
+    double getAdaptiveFriction() const override { return dynamics->getAdaptiveFriction(); }
+    DPDIntegrator::AdaptiveFrictionStatistics getAdaptiveFrictionStatistics() const override {
+        return dynamics->getAdaptiveFrictionStatistics();
+    }
+    void resetAdaptiveFrictionStatistics() override { dynamics->resetAdaptiveFrictionStatistics(); }
     DPDIntegrator::StressStatistics getStressStatistics() const override { return dynamics->getStressStatistics(); }
     void resetStressStatistics() override { dynamics->resetStressStatistics(); }
     void checkFrictionTable(const DPDTypePairTable& table) const override { dynamics->checkFrictionTable(table); }

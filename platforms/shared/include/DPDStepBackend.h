@@ -23,6 +23,10 @@ struct DPDSweepRequest {
     bool gatherStress; // add the sweep's pair stress sums to the step's sample (when stress is accumulated)
     bool reversed = false; // over the pairs in the reverse of the platform's sweep order
     bool gatherResponse = false; // Norton: G . Delta p^D of the O sweep's dissipative increments, for addDissipationToMultiplier
+    // PAdL's O sweep: every pair with the friction xi = adaptiveFriction and the noise sigma = adaptiveNoise
+    // (adaptiveOrnsteinUhlenbeckUpdate of DPDPairFormulas.h), not the table's gamma and sigma^2 = 2 gamma kT.
+    bool adaptive = false;
+    double adaptiveFriction = 0.0, adaptiveNoise = 0.0;
 };
 
 /**
@@ -93,6 +97,12 @@ public:
     virtual bool kick(double dt, bool keepForces) = 0;
     /** The exact OU sweep; with sweep.gatherResponse (Norton) also G . Delta p^D of its dissipative increments, kept for addDissipationToMultiplier. */
     virtual void sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep) = 0;
+    /**
+     * PAdL's D: sum_{i<j} w^2 [(e.u)^2 - kT/m_ij] over the sweep's pairs at the current positions and
+     * velocities (u lab-frame under shear), in the pairs' fixed order; the scheme layer advances xi with it.
+     * This definition refuses: a platform that runs PAdL overrides it.
+     */
+    virtual double sumFrictionFeedback();
     /** Shardlow's BBK sweep. */
     virtual void sweepBBK(const DPDSweepRequest& sweep) = 0;
     /** F^D + F^R at the current velocities added to the latest forces (VV). */

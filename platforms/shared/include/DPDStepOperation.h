@@ -39,7 +39,14 @@ struct DPDStepOperation {
         /** Norton at the step's end: the step's forcing lambda = sum of the multipliers / h (Wu & Shang eq. 70). */
         NortonRecord,
         /** NEMD at the step's end: the response R = G . p at (q^{n+1}, p^{n+1}) (Wu & Shang eq. 9). */
-        SampleResponse
+        SampleResponse,
+        /**
+         * D(f h) of PAdL: xi += f h mu^-1 sum_{i<j} w^2 [(e.u)^2 - kT/m_ij] over the sweep's pairs at the
+         * current positions and velocities (the adaptive friction's feedback, docs/design/padl.rst).
+         */
+        AdaptFriction,
+        /** PAdL at the step's end: xi's sample of the step (AdaptiveFrictionStatistics). */
+        RecordAdaptiveFriction
     };
     Kind kind;
     /** The operation's share f of the step size h (Drift, Kick, the sweeps, MoveImages, ForcingImpulse). */
@@ -68,6 +75,8 @@ struct DPDStepOperation {
     bool counted = false;
     /** Sweeps: over the pairs in the reverse of the platform's sweep order (BAOOAB's second O). */
     bool reversed = false;
+    /** OrnsteinUhlenbeckSweep: with PAdL's friction xi and fixed noise sigma, not the table's gamma and sigma^2 = 2 gamma kT. */
+    bool adaptiveFriction = false;
 
     static DPDStepOperation of(Kind kind, double fraction, const char* equation) {
         DPDStepOperation operation{kind};

@@ -41,6 +41,11 @@ public:
     /** Throw an OpenMMException for a combination no scheme defines (NEMD or Norton with VV, S1 or shear). */
     static void check(const Options& options);
     /**
+     * Throw an OpenMMException for a friction table the scheme cannot use: PAdL adapts one friction for
+     * every pair, so its default must be > 0 and no type pair may have a friction of its own.
+     */
+    static void checkFrictionTable(DPDIntegrator::Scheme scheme, const DPDTypePairTable& table);
+    /**
      * The factor of the pair stress sums at the step's end: 1 where VV's F^D + F^R gathers them (forces),
      * 1/h where a sweep does (momentum changes over the step).
      */

@@ -19,6 +19,8 @@ void DPDSchemeState::writeCheckpoint(std::ostream& stream, const DPDIntegrator::
     stream.write(reinterpret_cast<const char*>(&seed), sizeof(seed));
     stream.write(reinterpret_cast<const char*>(&sweepCounter), sizeof(sweepCounter));
     stream.write(reinterpret_cast<const char*>(&transport), sizeof(transport));
+    stream.write(reinterpret_cast<const char*>(&adaptiveFriction), sizeof(adaptiveFriction));
+    stream.write(reinterpret_cast<const char*>(&adaptiveFrictionStatistics), sizeof(adaptiveFrictionStatistics));
     stream.write(reinterpret_cast<const char*>(&stress), sizeof(stress));
     bool storeForces = !storedForces.empty();
     stream.write(reinterpret_cast<const char*>(&storeForces), sizeof(storeForces));
@@ -35,6 +37,8 @@ void DPDSchemeState::readCheckpoint(std::istream& stream, int numParticles, DPDI
     std::uint64_t seed;
     unsigned long long counter;
     DPDIntegrator::TransportStatistics statistics;
+    double friction;
+    DPDIntegrator::AdaptiveFrictionStatistics frictionStatistics;
     DPDIntegrator::StressStatistics stressStatistics;
     unsigned char storedForce = 0; // a byte, not a bool: any byte value may arrive here
     Vec3 storedBox[3];
@@ -42,6 +46,8 @@ void DPDSchemeState::readCheckpoint(std::istream& stream, int numParticles, DPDI
     stream.read(reinterpret_cast<char*>(&seed), sizeof(seed));
     stream.read(reinterpret_cast<char*>(&counter), sizeof(counter));
     stream.read(reinterpret_cast<char*>(&statistics), sizeof(statistics));
+    stream.read(reinterpret_cast<char*>(&friction), sizeof(friction));
+    stream.read(reinterpret_cast<char*>(&frictionStatistics), sizeof(frictionStatistics));
     stream.read(reinterpret_cast<char*>(&stressStatistics), sizeof(stressStatistics));
     stream.read(reinterpret_cast<char*>(&storedForce), sizeof(storedForce));
     if (stream && storedForce) {
@@ -55,6 +61,8 @@ void DPDSchemeState::readCheckpoint(std::istream& stream, int numParticles, DPDI
     random = DPDPairRandom(seed);
     sweepCounter = counter;
     transport = statistics;
+    adaptiveFriction = friction;
+    adaptiveFrictionStatistics = frictionStatistics;
     stress = stressStatistics;
     storedForcesValid = storedForce != 0;
     if (storedForce)

@@ -11,6 +11,8 @@ using Op = DPDStepOperation;
 DPDSplittingDynamics::DPDSplittingDynamics(const DPDIntegrator& integrator, const BackendFactory& makeBackend)
     : scheme(integrator.getScheme()), stepSize(integrator.getStepSize()) {
     state.reseed(integrator.getRandomNumberSeed());
+    DPDStepProgram::checkFrictionTable(scheme, integrator.getTable()); // a Context PAdL could not step is refused where it is made
+    state.adaptiveFriction = integrator.getDefaultFriction(); // PAdL's xi starts at gamma, the mean of its invariant density
     backend = makeBackend(state);
 }
 
@@ -34,7 +36,9 @@ void DPDSplittingDynamics::step(const DPDIntegrator& integrator, bool moreStepsF
     options.forcing = integrator.getForcingMode();
     options.sheared = integrator.getShearRate() != 0.0;
     DPDStepProgram::check(options); // before the step touches anything
+    DPDStepProgram::checkFrictionTable(scheme, integrator.getTable());
     backend->beginStep(integrator);
+    const double adaptiveFrictionAtStart = state.adaptiveFriction;
     const bool transportOnBackend = options.forcing != DPDIntegrator::NoForcing;
     if (transportOnBackend && !backendHasTransport) { // the sums changed here (a reset, a checkpoint) or never went there
         backend->writeTransport(state.transport);
@@ -48,6 +52,7 @@ void DPDSplittingDynamics::step(const DPDIntegrator& integrator, bool moreStepsF
     catch (...) { // no half-done kick outlives the call, nor a half-taken stress sample
         state.operationsDoneByPreviousStep = 0;
         state.storedForcesValid = false;
+        state.adaptiveFriction = adaptiveFrictionAtStart;
         if (transportOnBackend) { // the sums of the steps done; the next forced step hands them over again (its multipliers from 0)
             backendHasTransport = false;
             try {
@@ -143,6 +148,19 @@ void DPDSplittingDynamics::execute(const DPDStepOperation& operation, const DPDF
         backend->sampleResponse(); // R at (q^{n+1}, p^{n+1}), for eq. 9
         state.transport.steps++;
         return;
+    case Op::AdaptFriction: // d xi = mu^-1 sum_{i<j} w^2 [(e.u)^2 - kT/m_ij] dt (padl.rst eq. 3)
+        state.adaptiveFriction += dt/forcedIntegrator->getPAdLThermalMass()*backend->sumFrictionFeedback();
+        if (!std::isfinite(state.adaptiveFriction))
+            throwNonFinite("adaptive friction", -1, stepOffset);
+        return;
+    case Op::RecordAdaptiveFriction: {
+        DPDIntegrator::AdaptiveFrictionStatistics& statistics = state.adaptiveFrictionStatistics;
+        statistics.steps++;
+        statistics.sum += state.adaptiveFriction;
+        statistics.sumOfSquares += state.adaptiveFriction*state.adaptiveFriction;
+        statistics.last = state.adaptiveFriction;
+        return;
+    }
     }
 }
 

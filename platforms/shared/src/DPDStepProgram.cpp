@@ -68,18 +68,40 @@ void aboba(std::vector<Op>& program, const DPDStepProgram::Options& options) {
     }
 }
 
+/** Where the papers define the shared frame's operations, for a scheme's describe(). */
+struct FrameEquations {
+    const char *forcesAtStart, *kick, *drift, *evaluation;
+};
+
+/**
+ * The frame BAOAB, BAOOAB and PAdL share: B(h/2) A(h/2) [middle, at q^{n+1/2}] A(h/2) B(h/2), the
+ * images moved with the drifts, the forces at q^{n+1} kept for the next step's first B.
+ */
+template <class Middle>
+void kickDriftFrame(std::vector<Op>& program, const DPDStepProgram::Options& options, const FrameEquations& equations, Middle&& middle) {
+    program.push_back(op(Op::ForcesAtStart, 0.0, equations.forcesAtStart));
+    program.push_back(op(Op::Kick, 0.5, equations.kick));
+    program.push_back(op(Op::Drift, 0.5, equations.drift));
+    if (options.sheared)
+        program.push_back(op(Op::MoveImages, 0.5, "3.2 (offset at t + h/2)"));
+    middle();
+    program.push_back(op(Op::Drift, 0.5, equations.drift));
+    if (options.sheared)
+        program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h, wrap)"));
+    program.push_back(op(Op::EvaluateForces, 0.0, equations.evaluation));
+    program.push_back(with(op(Op::Kick, 0.5, equations.kick), &Op::keepForNextStep)); // for the next step's first B(h/2)
+}
+
 /**
  * BAOAB for DPD (Shang 2021 sec. 2.3's construction, discussed after Figure 4): B(h/2) A(h/2) O(h)
  * A(h/2) B(h/2), the O sweep over the pairs at the half-drift positions, which a search of their own
  * finds; symmetric (BAOOAB): O(h/2) twice, the second over the pairs in the reverse order.
  */
 void baoab(std::vector<Op>& program, const DPDStepProgram::Options& options, bool symmetric) {
-    program.push_back(op(Op::ForcesAtStart, 0.0, "BAOAB (the previous step's F)"));
-    program.push_back(op(Op::Kick, 0.5, "BAOAB B(h/2)"));
-    program.push_back(op(Op::Drift, 0.5, "BAOAB A(h/2)"));
-    if (options.sheared)
-        program.push_back(op(Op::MoveImages, 0.5, "3.2 (offset at t + h/2)"));
-    if (!options.frictionless) {
+    FrameEquations equations{"BAOAB (the previous step's F)", "BAOAB B(h/2)", "BAOAB A(h/2)", "BAOAB (at q^{n+1}, reused next step)"};
+    kickDriftFrame(program, options, equations, [&] {
+        if (options.frictionless)
+            return;
         program.push_back(op(Op::FindPairs, 0.0, "BAOAB (pairs at q^{n+1/2})"));
         if (symmetric) {
             program.push_back(with(op(Op::OrnsteinUhlenbeckSweep, 0.5, "BAOOAB O(h/2), 2.14-2.17"), &Op::gatherStress));
@@ -89,12 +111,27 @@ void baoab(std::vector<Op>& program, const DPDStepProgram::Options& options, boo
         }
         else
             program.push_back(with(op(Op::OrnsteinUhlenbeckSweep, 1.0, "BAOAB O(h), 2.14-2.17"), &Op::gatherStress));
-    }
-    program.push_back(op(Op::Drift, 0.5, "BAOAB A(h/2)"));
-    if (options.sheared)
-        program.push_back(op(Op::MoveImages, 1.0, "3.2 (offset at t + h, wrap)"));
-    program.push_back(op(Op::EvaluateForces, 0.0, "BAOAB (at q^{n+1}, reused next step)"));
-    program.push_back(with(op(Op::Kick, 0.5, "BAOAB B(h/2)"), &Op::keepForNextStep)); // for the next step's first B(h/2)
+    });
+}
+
+/**
+ * PAdL (Leimkuhler & Shang 2016) as B A D O D A B: BAOAB's frame and pair search at the half-drift
+ * positions, the exact OU sweep with the adaptive friction xi and the fixed noise sigma, and xi advanced
+ * by h/2 before and after it over the same pairs (the second D sees the swept velocities).  Never
+ * frictionless: xi moves even where it is 0.
+ */
+void padl(std::vector<Op>& program, const DPDStepProgram::Options& options) {
+    FrameEquations equations{"PAdL (the previous step's F)", "PAdL B(h/2)", "PAdL A(h/2)", "PAdL (at q^{n+1}, reused next step)"};
+    kickDriftFrame(program, options, equations, [&] {
+        program.push_back(op(Op::FindPairs, 0.0, "PAdL (pairs at q^{n+1/2})"));
+        program.push_back(op(Op::AdaptFriction, 0.5, "PAdL D(h/2), padl.rst eq. (3)"));
+        program.push_back(with(with(op(Op::OrnsteinUhlenbeckSweep, 1.0, "PAdL O(h) with xi and sigma, padl.rst eq. (5)"), &Op::gatherStress),
+                               &Op::adaptiveFriction));
+        program.push_back(op(Op::AdaptFriction, 0.5, "PAdL D(h/2), padl.rst eq. (3)"));
+        // xi's value at the step's end (nothing after the second D changes it), recorded here so that the
+        // closing kick stays the program's last operation, which the fusions look for (DPDStepFusion).
+        program.push_back(op(Op::RecordAdaptiveFriction, 0.0, "PAdL (xi at the step's end)"));
+    });
 }
 
 /** Wu & Shang's ABOBA-Norton: each projection sets G.p = r after its sub-step; lambda sums the multipliers. */
@@ -137,6 +174,8 @@ const char* kindName(Op::Kind kind) {
     case Op::NortonDissipation: return "Norton dissipation";
     case Op::NortonRecord: return "Norton record";
     case Op::SampleResponse: return "response sample";
+    case Op::AdaptFriction: return "D (adaptive friction)";
+    case Op::RecordAdaptiveFriction: return "adaptive friction record";
     }
     return "?";
 }
@@ -149,6 +188,30 @@ void DPDStepProgram::check(const Options& options) {
         throw OpenMM::OpenMMException("DPDIntegrator: Lees-Edwards shear cannot be combined with NEMD or Norton forcing");
 }
 
+void DPDStepProgram::checkFrictionTable(DPDIntegrator::Scheme scheme, const DPDTypePairTable& table) {
+    if (scheme != DPDIntegrator::PAdL)
+        return;
+    double gamma = table.getDefaultValue();
+    if (!(gamma > 0.0)) {
+        std::stringstream message;
+        message << "DPDIntegrator: PAdL's default friction = " << gamma << " amu/ps is out of range; it must be > 0 (the adaptive "
+                << "friction xi starts there and sigma defaults to sqrt(2 gamma kT))";
+        throw OpenMM::OpenMMException(message.str());
+    }
+    for (int pair = 0; pair < table.getNumTypePairs(); pair++) {
+        int type1, type2;
+        double friction, cutoff;
+        table.getTypePair(pair, type1, type2, friction, cutoff);
+        if (friction != gamma) {
+            std::stringstream message;
+            message << "DPDIntegrator: PAdL adapts one friction xi for every pair, but type pair " << pair << " (types " << type1 << " and "
+                    << type2 << ") has friction " << friction << " amu/ps, not the default " << gamma
+                    << "; type pairs may set cutoffs of their own under PAdL, not frictions";
+            throw OpenMM::OpenMMException(message.str());
+        }
+    }
+}
+
 std::vector<DPDStepOperation> DPDStepProgram::of(const Options& options) {
     check(options);
     std::vector<Op> program;
@@ -158,6 +221,8 @@ std::vector<DPDStepOperation> DPDStepProgram::of(const Options& options) {
         shardlowS1(program, options, options.scheme == DPDIntegrator::S1ExactOU);
     else if (options.scheme == DPDIntegrator::BAOAB || options.scheme == DPDIntegrator::BAOOAB)
         baoab(program, options, options.scheme == DPDIntegrator::BAOOAB);
+    else if (options.scheme == DPDIntegrator::PAdL)
+        padl(program, options);
     else if (options.forcing == DPDIntegrator::Norton)
         abobaNorton(program, options);
     else

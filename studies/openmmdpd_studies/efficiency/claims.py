@@ -1,5 +1,6 @@
 """The claims of Shang 2021 about its "other methods" (BAOAB, BAOOAB, S1 with the exact OU solution; sec.
-2.3 and the discussion after Figure 4), each set against what the efficiency study measured, with error
+2.3 and the discussion after Figure 4) and about PAdL (sec. 4: against DPD-S1, and the open question
+against ABOBA), each set against what the efficiency study measured, with error
 bars, and a verdict by an explicit rule (:data:`VERDICT_RULES`).
 
 Every verdict is one of three words.  A claim *holds* when the measured one-standard-error (or two,
@@ -61,6 +62,10 @@ VERDICT_RULES = [
     f"hold if it lies outside, not resolved otherwise. χ²/dof of the error differences at the common step "
     f"sizes (combined error bars) says whether any difference is detectable at all; it does not decide the "
     f"verdict (two similar methods can differ detectably).",
+    "**7 (PAdL outperforms DPD-S1)**: the ratio of critical step sizes h_c(PAdL)/h_c(S1) (10 % error of T_conf) with "
+    "its range from the one-s.e. ranges. Holds if the whole range lies above 1, does not hold if it lies below, not "
+    "resolved otherwise. **8 (PAdL against ABOBA)** is the question the paper leaves open: the same ratio against "
+    "ABOBA and the ratio of times per step, reported without a verdict.",
 ]
 
 
@@ -362,6 +367,31 @@ def _similarity_rows(scene: Scene, methods: Dict[str, Dict]) -> List[ClaimRow]:
     return rows
 
 
+def _padl_rows(scene: Scene, methods: Dict[str, Dict]) -> List[ClaimRow]:
+    """Claim 7, Leimkuhler and Shang's, as Shang 2021 sec. 4 quotes it: PAdL "can also outperform popular
+    numerical methods (including DPD-S1)" in critical step size (10 % error of T_conf); and the question
+    the paper leaves open, PAdL against ABOBA, as a comparison (in step size and, where timed, per step)."""
+    if "PAdL" not in methods:
+        return []
+    rows = []
+    if "S1" in methods:
+        ratio = critical_ratio(methods["PAdL"], methods["S1"])
+        verdict = interval_verdict(ratio["low"], ratio["high"], (1.0, math.inf))
+        rows.append(ClaimRow(7, "PAdL outperforms DPD-S1 (critical step size)", scene.name, f"h_c(PAdL)/h_c(S1) = {_range(ratio)}",
+                             verdict, {"critical_ratio": ratio}))
+    if "ABOBA" in methods:
+        ratio = critical_ratio(methods["PAdL"], methods["ABOBA"])
+        measured = f"h_c(PAdL)/h_c(ABOBA) = {_range(ratio)}"
+        rounds = (methods["PAdL"].get("seconds_per_step_rounds"), methods["ABOBA"].get("seconds_per_step_rounds"))
+        extra: Dict[str, object] = {"critical_ratio": ratio}
+        if all(rounds):
+            cost = cost_ratio(*rounds)
+            measured += f"; t_PAdL/t_ABOBA = {_pm(cost['ratio'], cost['ratio_error'])} ({cost['rounds']} rounds)"
+            extra["cost"] = cost
+        rows.append(ClaimRow(8, "PAdL against ABOBA (the paper's open question)", scene.name, measured, NO_CLAIM, extra))
+    return rows
+
+
 def paper_claims(scenes: Sequence[Scene], summaries: Sequence[Dict]) -> List[ClaimRow]:
     """The rows of the claims table for the scenes that hold the methods each claim needs, in claim order."""
     rows: List[ClaimRow] = []
@@ -369,7 +399,7 @@ def paper_claims(scenes: Sequence[Scene], summaries: Sequence[Dict]) -> List[Cla
         if scene.shear_rate > 0 or "configurational_temperature" not in scene.observables:
             continue  # the claims are about the equilibrium soft fluid's T_conf and RDF
         methods = summary["methods"]
-        for build in (_cost_rows, _rdf_row, _efficiency_row, _order_rows, _similarity_rows):
+        for build in (_cost_rows, _rdf_row, _efficiency_row, _order_rows, _similarity_rows, _padl_rows):
             rows += build(scene, methods)
     return sorted(rows, key=lambda row: row.number)
 

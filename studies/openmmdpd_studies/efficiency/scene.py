@@ -16,7 +16,7 @@ import tomllib  # Python >= 3.11, as pyproject.toml requires
 
 #: Methods a scene may name: the plugin's schemes with the scene's own conservative force, ABOBA with
 #: the soft force written as an OpenMM CustomNonbondedForce, and OpenMM's built-in DPDIntegrator.
-METHODS = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB", "ABOBA-CustomNonbonded", "OpenMM-DPD", "OpenMM-DPD-OpenCL",
+METHODS = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB", "PAdL", "ABOBA-CustomNonbonded", "OpenMM-DPD", "OpenMM-DPD-OpenCL",
            "ABOBA-OpenCL")
 #: Methods that run on OpenMM's OpenCL platform (double precision; on a machine without a GPU, pocl on the
 #: CPU): the accuracy of the GPU code paths, measured without a GPU.  Their times per step are pocl's.
@@ -35,6 +35,9 @@ METHOD_DESCRIPTIONS = {
              "pair search of its own; Shang 2021 sec. 2.3 and after Figure 4), with the scene's conservative force",
     "BAOOAB": "openmmdpd.DPDIntegrator, scheme BAOOAB (BAOAB with two O(h/2) sweeps, the second over the pairs in "
               "reverse order), with the scene's conservative force",
+    "PAdL": "openmmdpd.DPDIntegrator, scheme PAdL (the pairwise adaptive Langevin thermostat of Leimkuhler and Shang "
+            "2016: B A D O D A B, the friction xi adapting with thermal mass mu = 10 nm^2/amu about the scene's friction, "
+            "sigma = sqrt(2 gamma kT); docs/design/padl.rst), with the scene's conservative force",
     "ABOBA-CustomNonbonded": "openmmdpd.DPDIntegrator, scheme ABOBA, soft force as an OpenMM CustomNonbondedForce "
                              "(the cost of the force seen apart from the accuracy of the scheme)",
     "OpenMM-DPD": "OpenMM's built-in openmm.DPDIntegrator (its Reference kernel, also on the CPU platform), "
@@ -48,7 +51,7 @@ METHOD_DESCRIPTIONS = {
 }
 OBSERVABLES = ("configurational_temperature", "kinetic_temperature", "rdf", "pressure", "shear_viscosity")
 #: Methods that run under Lees-Edwards shear (OpenMM's own DPDIntegrator has no sheared boundary).
-SHEARABLE_METHODS = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB", "ABOBA-CustomNonbonded")
+SHEARABLE_METHODS = ("VV", "S1", "ABOBA", "S1-OU", "BAOAB", "BAOOAB", "PAdL", "ABOBA-CustomNonbonded")
 
 
 @dataclass

@@ -144,6 +144,19 @@ def test_similarity_of_two_methods_critical_steps_and_error_differences():
     assert error_differences(larger, same[0])["p_value"] < 1e-6
 
 
+def test_padl_rows_judge_it_against_s1_and_compare_it_with_aboba():
+    scene = load_scene(SCENES / "soft_fluid_gamma4.5.toml")
+    bars = np.full(len(STEPS), 0.002)
+    s1 = entry(20 * STEPS**2, bars)
+    aboba = entry(2 * STEPS**2, bars, rounds=[1.0, 1.1, 0.9, 1.0])
+    for padl_error, verdict in ((5 * STEPS**2, HOLDS), (40 * STEPS**2, FAILS)):  # h_c twice S1's, or sqrt(2) smaller
+        padl = entry(padl_error, bars, rounds=[1.3, 1.4, 1.2, 1.3])
+        rows = [r for r in paper_claims([scene], [{"methods": {"S1": s1, "ABOBA": aboba, "PAdL": padl}}]) if r.number in (7, 8)]
+        assert [r.number for r in rows] == [7, 8]
+        assert rows[0].verdict == verdict
+        assert rows[1].verdict == "(comparison)" and "t_PAdL/t_ABOBA = 1.30" in rows[1].measured
+
+
 def _rdf_point(step, runs, rng, shift=0.0):
     """Per-run histograms of an ideal gas (g = 1) with Poisson noise, plus a shift of g in one bin."""
     scene = load_scene(SCENES / "soft_fluid_gamma4.5.toml")
