@@ -57,6 +57,15 @@ inline std::string gpuPlatformName() {
     return name != nullptr && *name != '\0' ? name : "OpenCL";
 }
 
+/**
+ * A platform's name in a test instance's name: "GPU" for either GPU platform.  CTest lists the tests
+ * when they are built (with OpenCL); a run on CUDA (OPENMMDPD_GPU_PLATFORM=CUDA) must find the same
+ * names, or its filters would match no instance and pass having run nothing.
+ */
+inline std::string platformTestName(const std::string& platformName) {
+    return PlatformPolicy::isGPU(platformName) ? "GPU" : platformName;
+}
+
 /** The host platforms: Reference and CPU. */
 const std::vector<std::string> allPlatforms = {"Reference", "CPU"};
 

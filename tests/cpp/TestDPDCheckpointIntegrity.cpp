@@ -91,7 +91,7 @@ TEST_P(CheckpointIntegrity, ClaimedLengthBeyondTheLayoutIsRefusedWithoutAllocati
 }
 
 INSTANTIATE_TEST_SUITE_P(Platforms, CheckpointIntegrity, ::testing::ValuesIn(loadedPlatforms()),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+                         [](const ::testing::TestParamInfo<std::string>& info) { return platformTestName(info.param); });
 
 // What the bit-identity promise of checkpoints covers with OpenMM's own forces (issue 11, item 8).
 // OpenMM's CPU nonbonded kernels sum in single precision, in the order of a neighbor list rebuilt when

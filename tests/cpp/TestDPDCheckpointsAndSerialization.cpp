@@ -111,7 +111,7 @@ TEST_P(Reproducibility, LookingAtTheStateDoesNotPerturbTheRun) {
 
 INSTANTIATE_TEST_SUITE_P(Schemes, Reproducibility, ::testing::Combine(::testing::ValuesIn(loadedPlatforms()), ::testing::ValuesIn(allSchemes)),
                          [](const ::testing::TestParamInfo<PlatformAndScheme>& info) {
-                             return std::get<0>(info.param)+"_"+testName(std::get<1>(info.param));
+                             return platformTestName(std::get<0>(info.param))+"_"+testName(std::get<1>(info.param));
                          });
 
 namespace {

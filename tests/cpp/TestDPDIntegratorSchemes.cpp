@@ -20,7 +20,7 @@ namespace {
 using PlatformAndScheme = std::tuple<std::string, std::string>;
 
 std::string platformAndSchemeName(const ::testing::TestParamInfo<PlatformAndScheme>& info) {
-    return std::get<0>(info.param)+"_"+testName(std::get<1>(info.param));
+    return platformTestName(std::get<0>(info.param))+"_"+testName(std::get<1>(info.param));
 }
 
 std::string schemeName(const ::testing::TestParamInfo<std::string>& info) {

@@ -80,7 +80,7 @@ TEST_P(LeesEdwards, OffsetFollowsTheShearAndStaysReduced) {
 
 INSTANTIATE_TEST_SUITE_P(AllPlatformsAndSchemes, LeesEdwards, ::testing::Combine(::testing::ValuesIn(loadedPlatforms()), ::testing::ValuesIn(allSchemes)),
                          [](const ::testing::TestParamInfo<PlatformAndScheme>& info) {
-                             return std::get<0>(info.param)+"_"+testName(std::get<1>(info.param));
+                             return platformTestName(std::get<0>(info.param))+"_"+testName(std::get<1>(info.param));
                          });
 
 TEST(LeesEdwardsPlatforms, ReferenceAndCPUAgreeForVVUnderShear) {

@@ -167,7 +167,7 @@ TEST_P(StressOnEveryPlatform, AForceWhoseStressIsNotUnderstoodIsRefusedNamingIt)
 }
 
 INSTANTIATE_TEST_SUITE_P(Platforms, StressOnEveryPlatform, ::testing::ValuesIn(loadedPlatforms()),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+                         [](const ::testing::TestParamInfo<std::string>& info) { return platformTestName(info.param); });
 
 TEST(StressTensorBadInput, ForcesTheStressCannotComputeAreNamed) {
     // Bonds, angles and torsions are understood (DPDBondedTerms); charges with PME are not.

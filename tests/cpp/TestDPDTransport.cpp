@@ -79,7 +79,7 @@ INSTANTIATE_TEST_SUITE_P(Transport, NortonProfiles,
                          ::testing::Combine(::testing::ValuesIn(loadedPlatforms()),
                                             ::testing::Values("ColourDrift", "sinusoidal", "piecewise_linear", "piecewise_constant")),
                          [](const ::testing::TestParamInfo<PlatformAndProfile>& info) {
-                             return std::get<0>(info.param)+"_"+std::get<1>(info.param);
+                             return platformTestName(std::get<0>(info.param))+"_"+std::get<1>(info.param);
                          });
 
 TEST(Transport, NEMDAtZeroForcingIsPlainABOBABitForBit) {
