@@ -167,7 +167,7 @@ TEST_P(GPUScheme, TemperaturesAgreeWithTheCPUAtEveryFriction) {
         settings.push_back({450.0, 0.02, 10, 0.02});
     for (const Setting& setting : settings) {
         SCOPED_TRACE("gamma = "+std::to_string(setting.friction)+", dt = "+std::to_string(setting.dt));
-        Temperatures device = measureTemperatures(start, "OpenCL", GetParam(), setting.friction, setting.dt, setting.stepsPerSample);
+        Temperatures device = measureTemperatures(start, gpuPlatformName(), GetParam(), setting.friction, setting.dt, setting.stepsPerSample);
         Temperatures host = measureTemperatures(start, "CPU", GetParam(), setting.friction, setting.dt, setting.stepsPerSample);
         EXPECT_TRUE(agreeWithinError(device.kinetic, host.kinetic)) << "T_kin";
         EXPECT_TRUE(agreeWithinError(device.configurational, host.configurational)) << "T_conf";

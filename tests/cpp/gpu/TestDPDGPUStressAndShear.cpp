@@ -140,7 +140,7 @@ TEST(GPUStress, ABOBAPressureAgreesWithTheCPU) {
     // combined block standard errors (the sweep orders differ, the distributions must not).
     EquilibratedFluid start = equilibratedSoftFluid(375);
     BlockEstimate pressure[2];
-    const char* platforms[2] = {"OpenCL", "CPU"};
+    const std::string platforms[2] = {gpuPlatformName(), "CPU"};
     for (int p = 0; p < 2; p++) {
         DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.03, DPDIntegrator::ABOBA);
         integrator.setRandomNumberSeed(21);
@@ -160,7 +160,7 @@ TEST(GPUStress, ABOBAPressureAgreesWithTheCPU) {
             samples.push_back(-trace/(3.0*s.steps));
         }
         pressure[p] = blockAverage(samples, 12);
-        std::printf("[ measured ] %s ABOBA pressure %.4f +- %.4f\n", platforms[p], pressure[p].mean, pressure[p].standardError);
+        std::printf("[ measured ] %s ABOBA pressure %.4f +- %.4f\n", platforms[p].c_str(), pressure[p].mean, pressure[p].standardError);
     }
     EXPECT_NEAR(pressure[0].mean, pressure[1].mean, 5*std::hypot(pressure[0].standardError, pressure[1].standardError));
     EXPECT_GT(pressure[0].mean, 10.0); // the soft fluid at density 3: p ~ 23 (Groot and Warren), far from 0
@@ -198,7 +198,7 @@ TEST(GPULeesEdwards, ShearViscosityAgreesWithTheCPU) {
     // against 0.84, inside the bound.)
     EquilibratedFluid start = equilibratedSoftFluid(375);
     BlockEstimate viscosity[2];
-    const char* platforms[2] = {"OpenCL", "CPU"};
+    const std::string platforms[2] = {gpuPlatformName(), "CPU"};
     for (int p = 0; p < 2; p++) {
         DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.04, DPDIntegrator::ABOBA);
         integrator.setRandomNumberSeed(31);
@@ -208,7 +208,7 @@ TEST(GPULeesEdwards, ShearViscosityAgreesWithTheCPU) {
         context->setPositions(start.fluid.positions);
         context->setVelocities(start.velocities);
         viscosity[p] = shearViscosity(*context, integrator, 0.5, 200, 80, 25);
-        std::printf("[ measured ] %s sheared ABOBA viscosity %.4f +- %.4f\n", platforms[p], viscosity[p].mean, viscosity[p].standardError);
+        std::printf("[ measured ] %s sheared ABOBA viscosity %.4f +- %.4f\n", platforms[p].c_str(), viscosity[p].mean, viscosity[p].standardError);
     }
     EXPECT_NEAR(viscosity[0].mean, viscosity[1].mean, 5*std::hypot(viscosity[0].standardError, viscosity[1].standardError));
     EXPECT_GT(viscosity[0].mean, 5*viscosity[0].standardError); // resolved: a sign or a missing part would show
@@ -228,7 +228,7 @@ TEST(GPULeesEdwards, StreamingProfileAgreesWithTheCPU) {
     const double kappa = 0.5, blockErrorScale = 2.0;
     EquilibratedFluid start = equilibratedSoftFluid(375);
     StreamingProfile profile[2];
-    const char* platforms[2] = {"OpenCL", "CPU"};
+    const std::string platforms[2] = {gpuPlatformName(), "CPU"};
     for (int p = 0; p < 2; p++) {
         DPDIntegrator integrator(reducedTemperature, 40.5, 1.0, 0.04, DPDIntegrator::ABOBA);
         integrator.setRandomNumberSeed(41);
@@ -239,7 +239,7 @@ TEST(GPULeesEdwards, StreamingProfileAgreesWithTheCPU) {
         zeroMomentum(*context); // a centre of mass moving along y would carry the profile with it
         integrator.step(200);
         profile[p] = measureProfile(*context, integrator, kappa, 8, 600, 4);
-        std::printf("[ measured ] %s streaming profile slope %.4f +- %.4f (kappa %.1f)\n", platforms[p], profile[p].slope.mean,
+        std::printf("[ measured ] %s streaming profile slope %.4f +- %.4f (kappa %.1f)\n", platforms[p].c_str(), profile[p].slope.mean,
                     profile[p].slope.standardError, kappa);
         EXPECT_NEAR(profile[p].slope.mean, kappa, 0.01*kappa+5*blockErrorScale*profile[p].slope.standardError) << platforms[p];
     }
@@ -269,7 +269,7 @@ TEST(GPULeesEdwards, ShearedPolymerKeepsMoleculesWholeAndAgreesWithTheCPU) {
         for (int k = 1; k < 5; k++)
             positions[5*chain+k] = positions[5*chain]+Vec3(0.1*k, 0.05*k, 0.0);
     BlockEstimate temperature[2];
-    const char* platforms[2] = {"OpenCL", "CPU"};
+    const std::string platforms[2] = {gpuPlatformName(), "CPU"};
     for (int p = 0; p < 2; p++) {
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.03, DPDIntegrator::ABOBA);
         integrator.setRandomNumberSeed(4);
@@ -280,7 +280,7 @@ TEST(GPULeesEdwards, ShearedPolymerKeepsMoleculesWholeAndAgreesWithTheCPU) {
         context->setVelocities(start.velocities);
         integrator.step(300);
         temperature[p] = sampleTemperatures(*context, integrator, 200, 5, false).kineticEstimate();
-        std::printf("[ measured ] %s sheared chains T_kin %.4f +- %.4f\n", platforms[p], temperature[p].mean, temperature[p].standardError);
+        std::printf("[ measured ] %s sheared chains T_kin %.4f +- %.4f\n", platforms[p].c_str(), temperature[p].mean, temperature[p].standardError);
         std::vector<Vec3> end = snapshot(*context).positions;
         double longest = 0.0;
         for (int chain = 0; chain < 75; chain++)

@@ -76,7 +76,7 @@ TEST(GPUTransport, UncontrollableShearIsReportedAtTheCallsEnd) {
         position[1] = 0.0;
     for (Vec3& velocity : start.velocities)
         velocity[1] = 0.0;
-    for (const char* platformName : {"CPU", "OpenCL"}) {
+    for (const std::string platformName : {std::string("CPU"), gpuPlatformName()}) {
         SCOPED_TRACE(platformName);
         DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.005, DPDIntegrator::ABOBA);
         integrator.setNorton(DPDShearProfile(DPDShearProfile::Sinusoidal), 0.05);
@@ -113,7 +113,7 @@ TEST(GPUTransport, NEMDAndNortonAgreeWithTheCPU) {
     EquilibratedFluid start = equilibratedSoftFluid(300);
     for (const char* mode : {"NEMD", "Norton"}) {
         BlockEstimate mean[2];
-        const char* platforms[2] = {"OpenCL", "CPU"};
+        const std::string platforms[2] = {gpuPlatformName(), "CPU"};
         for (int p = 0; p < 2; p++) {
             DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.05, DPDIntegrator::ABOBA);
             integrator.setRandomNumberSeed(17);
@@ -133,7 +133,7 @@ TEST(GPUTransport, NEMDAndNortonAgreeWithTheCPU) {
                 samples.push_back((std::string(mode) == "NEMD" ? t.responseSum : t.forcingSum)/t.steps);
             }
             mean[p] = blockAverage(samples, 10);
-            std::printf("[ measured ] %s %s mean %s %.5f +- %.5f\n", platforms[p], mode, std::string(mode) == "NEMD" ? "response" : "forcing",
+            std::printf("[ measured ] %s %s mean %s %.5f +- %.5f\n", platforms[p].c_str(), mode, std::string(mode) == "NEMD" ? "response" : "forcing",
                         mean[p].mean, mean[p].standardError);
         }
         EXPECT_NEAR(mean[0].mean, mean[1].mean, 5*std::hypot(mean[0].standardError, mean[1].standardError)) << mode;
