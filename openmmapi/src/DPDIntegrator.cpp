@@ -2,6 +2,7 @@
 #include "openmmdpd/IntegrateDPDStepKernel.h"
 #include "openmmdpd/internal/DPDCheckpointBlock.h"
 #include "openmm/OpenMMException.h"
+#include "openmm/reference/SimTKOpenMMRealType.h"
 #include "openmm/internal/ContextImpl.h"
 #include <cmath>
 #include <iterator>
@@ -28,9 +29,6 @@ const std::pair<DPDIntegrator::Scheme, const char*> schemeNames[] = {
     {DPDIntegrator::VV, "VV"},       {DPDIntegrator::S1, "S1"},       {DPDIntegrator::ABOBA, "ABOBA"},
     {DPDIntegrator::S1ExactOU, "S1-OU"}, {DPDIntegrator::BAOAB, "BAOAB"}, {DPDIntegrator::BAOOAB, "BAOOAB"},
     {DPDIntegrator::PAdL, "PAdL"}};
-
-/** Boltzmann's constant in kJ/mol/K, OpenMM's value (SimTKOpenMMRealType.h). */
-constexpr double boltzmann = 0.00831446261815324;
 
 std::string listOfSchemes(bool withNumbers) {
     std::stringstream list;
@@ -129,7 +127,7 @@ void DPDIntegrator::setPAdLNoise(double sigma) {
 }
 
 double DPDIntegrator::getPAdLNoise() const {
-    return padlNoise >= 0.0 ? padlNoise : std::sqrt(2.0*getDefaultFriction()*boltzmann*temperature);
+    return padlNoise >= 0.0 ? padlNoise : std::sqrt(2.0*getDefaultFriction()*BOLTZ*temperature);
 }
 
 double DPDIntegrator::getAdaptiveFriction() const {

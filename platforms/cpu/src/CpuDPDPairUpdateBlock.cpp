@@ -69,11 +69,13 @@ inline __attribute__((always_inline)) void computeBlocks(std::size_t numBlocks, 
             originalI[n] = originalIndex[i];
             originalJ[n] = originalIndex[j];
         }
+        if constexpr (kind != CpuDPDPairUpdateBlock::FrictionFeedback) { // PAdL's feedback terms draw no random numbers
 #pragma omp simd
-        for (int n = 0; n < B; n++) {
-            DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI[n], originalJ[n]);
-            squaredRadius[n] = R.squaredRadius;
-            cosine[n] = R.cosine;
+            for (int n = 0; n < B; n++) {
+                DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI[n], originalJ[n]);
+                squaredRadius[n] = R.squaredRadius;
+                cosine[n] = R.cosine;
+            }
         }
 #pragma omp simd
         for (int n = 0; n < B; n++) {

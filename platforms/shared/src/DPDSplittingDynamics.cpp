@@ -35,8 +35,7 @@ void DPDSplittingDynamics::step(const DPDIntegrator& integrator, bool moreStepsF
     options.scheme = scheme;
     options.forcing = integrator.getForcingMode();
     options.sheared = integrator.getShearRate() != 0.0;
-    DPDStepProgram::check(options); // before the step touches anything
-    DPDStepProgram::checkFrictionTable(scheme, integrator.getTable());
+    DPDStepProgram::check(options); // before the step touches anything (the friction table is checked where it changes: checkFrictionTable)
     backend->beginStep(integrator);
     const double adaptiveFrictionAtStart = state.adaptiveFriction;
     const bool transportOnBackend = options.forcing != DPDIntegrator::NoForcing;
