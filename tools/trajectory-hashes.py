@@ -101,8 +101,6 @@ def run(scheme: str, platform: str, setting: str, variant: str) -> str:
 def configurations(gpu: str, precisions: Sequence[str]) -> Iterator[Tuple[str, str, str, str]]:
     variants = ["step(n)", "step(1)", "sheared", "stress", "bonds", "type-pairs", "checkpoint"]
     for scheme in dpd.SCHEMES:
-        if gpu and scheme == "PAdL":  # not on the GPU platforms yet
-            continue
         for variant in variants + (["NEMD", "Norton"] if scheme == "ABOBA" else []) + (["7 cells", "dense"] if gpu else []):
             if gpu:
                 for precision in precisions:

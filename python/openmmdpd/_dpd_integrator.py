@@ -92,7 +92,7 @@ class DPDIntegrator(openmm.Integrator, TypePairMethods):
     at the half-drift positions) and its symmetric form ("BAOOAB": the second O sweep over the pairs in
     reverse order); or PAdL ("PAdL"), the pairwise adaptive Langevin thermostat of Leimkuhler and Shang
     (2016), whose friction ``xi`` adapts (B A D O D A B; see :meth:`setPAdLThermalMass`, the design
-    page ``padl``; Reference and CPU platforms).
+    page ``padl``; every platform).
 
     Per-type-pair frictions and cutoffs with ``setParticleType``/``addTypePair``.  The B step uses
     the total force of the Context, so any OpenMM force may supply the conservative part.  A step

@@ -1,5 +1,6 @@
 // PAdL, the pairwise adaptive Langevin thermostat (Leimkuhler & Shang 2016; docs/design/padl.rst), on
-// the host platforms: momentum to round-off, the invariant measure (T_kin, T_conf, <xi> = gamma and
+// every platform this build loads (PlatformPolicy: a GPU run is shorter and in mixed precision but
+// where round-off is asked): momentum to round-off, the invariant measure (T_kin, T_conf, <xi> = gamma and
 // Var xi = kT/mu within their errors at a small step), xi's feedback pulling a fluid started 30 % hot
 // back, checkpoints and runs bit for bit, shear with stress and bonds, and what PAdL refuses.
 
@@ -32,28 +33,29 @@ struct FrictionSamples {
 
 } // namespace
 
-class PAdLOnHostPlatforms : public ::testing::TestWithParam<std::string> {};
+class PAdLOnEveryPlatform : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(PAdLOnHostPlatforms, MomentumIsConservedToRoundOff) {
+TEST_P(PAdLOnEveryPlatform, MomentumIsConservedToRoundOff) {
     // Every pair update of the O sweep adds equal and opposite momenta, and D changes only xi: the
     // total momentum moves by round-off only (the bound of TestDPDIntegratorSchemes.cpp, 1e-10 of
     // sqrt(N m kT)), with a drift velocity added so that it is far from zero.
+    PlatformPolicy policy = PlatformPolicy::of(GetParam());
     EquilibratedFluid start = equilibratedSoftFluid(200);
     auto integrator = makePAdL(4.5, 0.05, 10.0, 7);
-    auto context = makeContext(start, *integrator, GetParam());
+    auto context = makeRoundOffContext(start, *integrator, GetParam());
     std::vector<Vec3> velocities = start.velocities;
     for (Vec3& v : velocities)
         v += Vec3(0.3, -0.2, 0.1);
     context->setVelocities(velocities);
     Vec3 before = totalMomentum(*start.fluid.system, velocities);
-    integrator->step(2000);
+    integrator->step(policy.steps(2000));
     Vec3 change = totalMomentum(*start.fluid.system, snapshot(*context).velocities)-before;
     EXPECT_LT(std::sqrt(change.dot(change))/std::sqrt(200*kB*reducedTemperature), 1e-10);
     EXPECT_NE(integrator->getAdaptiveFriction(), 4.5); // xi moved
-    EXPECT_EQ(integrator->getAdaptiveFrictionStatistics().steps, 2000);
+    EXPECT_EQ(integrator->getAdaptiveFrictionStatistics().steps, policy.steps(2000));
 }
 
-TEST_P(PAdLOnHostPlatforms, RunsAndCheckpointsRepeatBitForBit) {
+TEST_P(PAdLOnEveryPlatform, RunsAndCheckpointsRepeatBitForBit) {
     // The same seed gives the same bits, xi included; a checkpoint carries xi and its sums, so a
     // continuation in the same Context and in a fresh one is the uninterrupted run's.
     EquilibratedFluid start = equilibratedSoftFluid(200);
@@ -80,9 +82,10 @@ TEST_P(PAdLOnHostPlatforms, RunsAndCheckpointsRepeatBitForBit) {
     EXPECT_EQ(resumed.second.steps, 80);
 }
 
-TEST_P(PAdLOnHostPlatforms, ShearWithStressAndBondsConservesMomentumAndLeavesTheBitsAlone) {
+TEST_P(PAdLOnEveryPlatform, ShearWithStressAndBondsConservesMomentumAndLeavesTheBitsAlone) {
     // Lees-Edwards shear (the sweeps' and D's relative velocity across the boundary is the lab one),
     // stress accumulation and chains of bonds: momentum to round-off, and stress leaves the bits alone.
+    int steps = PlatformPolicy::of(GetParam()).steps(300);
     EquilibratedFluid start = equilibratedSoftFluid(300);
     auto* bonds = new HarmonicBondForce();
     for (int chain = 0; chain < 60; chain++)
@@ -94,23 +97,23 @@ TEST_P(PAdLOnHostPlatforms, ShearWithStressAndBondsConservesMomentumAndLeavesThe
         auto integrator = makePAdL(4.5, 0.03, 10.0, 5);
         integrator->setLeesEdwards(0.4);
         integrator->setStressAccumulation(withStress == 1);
-        auto context = makeContext(start, *integrator, GetParam());
+        auto context = makeRoundOffContext(start, *integrator, GetParam());
         zeroMomentum(*context);
-        integrator->step(300);
+        integrator->step(steps);
         runs[withStress] = snapshot(*context);
         Vec3 p = totalMomentum(*start.fluid.system, runs[withStress].velocities);
         EXPECT_LT(std::sqrt(p.dot(p)), 1e-9);
         if (withStress == 1) {
             DPDIntegrator::StressStatistics stress = integrator->getStressStatistics();
-            EXPECT_EQ(stress.steps, 300);
+            EXPECT_EQ(stress.steps, steps);
             EXPECT_NE(stress.dissipative[1], 0.0); // the O sweep gathered its shear stress
         }
     }
     EXPECT_TRUE(bitIdentical(runs[0], runs[1]));
 }
 
-INSTANTIATE_TEST_SUITE_P(Platforms, PAdLOnHostPlatforms, ::testing::ValuesIn(allPlatforms),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Platforms, PAdLOnEveryPlatform, ::testing::ValuesIn(loadedPlatforms()),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return platformTestName(info.param); });
 
 TEST(PAdL, SamplesTheCanonicalDensityAndXiIsGaussianAboutGamma) {
     // The invariant density exp(-beta H) exp(-beta mu (xi - gamma)^2/2) (padl.rst): at a small step

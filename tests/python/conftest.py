@@ -55,9 +55,9 @@ def loaded_platform_names() -> list:
 
 def platforms_and_schemes() -> list:
     """(platform, scheme) for every loaded platform and every scheme it runs (the GPU pairs marked
-    ``gpu``): PAdL on the host platforms only, as yet."""
+    ``gpu``)."""
     host = [(name, scheme) for name in ("Reference", "CPU") for scheme in dpd.SCHEMES]
-    gpu = [pytest.param(GPU_PLATFORM, scheme, marks=pytest.mark.gpu) for scheme in dpd.SCHEMES if scheme != "PAdL"]
+    gpu = [pytest.param(GPU_PLATFORM, scheme, marks=pytest.mark.gpu) for scheme in dpd.SCHEMES]
     return host + (gpu if has_gpu_platform() else [])
 
 

@@ -61,6 +61,7 @@ public:
     bool kick(double dt, bool keepForces) override;
     void sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep) override;
     void sweepBBK(const DPDSweepRequest& sweep) override;
+    double sumFrictionFeedback() override;
     void addDissipativeAndRandomForces(const DPDSweepRequest& sweep) override;
     void moveImages(double elapsed, bool wrap) override;
 
@@ -121,10 +122,11 @@ private:
     std::unique_ptr<CommonDPDSweepProfile> profile;
     const OpenMM::ForceImpl* sharedForceImpl = nullptr;      // sharedForceKernel's force
     std::unique_ptr<DPDConservativeVirial> otherForcesVirial; // the conservative stress of the integrated forces but that one
-    CommonDPDKernel kickKernel, driftKernel, sweepKernel, gatherForcesKernel;
+    CommonDPDKernel kickKernel, driftKernel, sweepKernel, gatherKernel, sumRowsKernel;
     std::unique_ptr<CommonDPDLeesEdwards> shear;
     std::unique_ptr<CommonDPDForcing> forcing;
     OpenMM::ComputeArray typeOf, frictionValues, frictionCutoffs, storedForces, flags;
+    OpenMM::ComputeArray feedbackRows, feedbackSum; // PAdL's friction feedback: a row a particle, their sum (made at its first use)
 };
 
 } // namespace OpenMMDPD

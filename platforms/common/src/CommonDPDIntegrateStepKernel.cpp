@@ -5,11 +5,6 @@
 using namespace OpenMMDPD;
 
 void CommonDPDIntegrateStepKernel::initialize(OpenMM::ContextImpl& context, const DPDIntegrator& integrator) {
-    // PAdL's friction feedback (a pair sum whose xi every O sweep reads) has no device kernels yet: refused
-    // where the Context is made, not at its first step.
-    if (integrator.getScheme() == DPDIntegrator::PAdL)
-        throw OpenMM::OpenMMException("DPDIntegrator: the PAdL scheme is not available on the "+context.getPlatform().getName()+
-                                      " platform yet; it runs on the Reference and CPU platforms");
     cc.initializeContexts();
     dynamics = std::make_unique<DPDSplittingDynamics>(integrator, [&](DPDSchemeState& state) {
         auto backend = std::make_unique<CommonDPDStepBackend>(context, cc, integrator, state);

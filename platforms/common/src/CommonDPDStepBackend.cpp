@@ -21,7 +21,8 @@ using OpenMM::Vec3;
 namespace {
 
 constexpr double fixedPointScale = 4294967296.0; // OpenMM's fixed-point forces: 2^32 units per kJ/mol/nm
-enum SweepMode { OrnsteinUhlenbeck = 0, BBK = 1 }; // dpdPairSweep.cc
+enum SweepMode { OrnsteinUhlenbeck = 0, BBK = 1 };                 // dpdPairSweep.cc
+enum GatherOverPairs { DissipativeAndRandomForces = 0, FrictionFeedback = 1 }; // dpdGatherOverPairs
 
 } // namespace
 
@@ -56,7 +57,8 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     kickKernel = CommonDPDKernel(program, "dpdKick");
     driftKernel = CommonDPDKernel(program, "dpdDrift");
     sweepKernel = CommonDPDKernel(program, "dpdSweepColour");
-    gatherForcesKernel = CommonDPDKernel(program, "dpdGatherDissipativeAndRandomForces");
+    gatherKernel = CommonDPDKernel(program, "dpdGatherOverPairs");
+    sumRowsKernel = CommonDPDKernel(program, "dpdSumRows");
     typeOf.initialize<int>(cc, system.getNumParticles(), "dpdFrictionTypes");
     storedForces.initialize<long long>(cc, 3*system.getNumParticles(), "dpdStoredForces");
     flags.initialize<int>(cc, 2, "dpdFailedSteps");
@@ -296,7 +298,7 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
                         layout.numBlocks, layout.blocksPerColour, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(),
                         grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf,
                         frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT, request.dt, key, mode,
-                        request.reversed ? 1 : 0, gatherStress, blockStress, shear->flow().getShearRate(), withResponse,
+                        request.adaptive ? 1 : 0, request.adaptiveFriction, request.adaptiveNoise, request.reversed ? 1 : 0, gatherStress, blockStress, shear->flow().getShearRate(), withResponse,
                         responseFieldOrNone, responseOfPairs, n*layout.blocksPerColour, recordRounds, roundsRows,
                         colour*layout.blocksPerColour);
         if (gatherStress)
@@ -309,6 +311,27 @@ void CommonDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& request
     sweep(OrnsteinUhlenbeck, request);
     if (request.gatherResponse) // summed on the device for addDissipationToMultiplier, not read back
         forcing->sumSweptResponse();
+}
+
+double CommonDPDStepBackend::sumFrictionFeedback() {
+    if (!pairsAtCurrentPositions)
+        throw OpenMM::OpenMMException("DPDIntegrator: internal error: PAdL's friction feedback without the pairs of the current positions");
+    OpenMM::ContextSelector selector(cc);
+    int numAtoms = cc.getNumAtoms();
+    if (!feedbackRows.isInitialized()) {
+        feedbackRows.initialize<double>(cc, numAtoms, "dpdFrictionFeedbackRows");
+        feedbackSum.initialize<double>(cc, 1, "dpdFrictionFeedback");
+    }
+    // Half of each pair's w^2 [u^2 - kT/m_ij] from each end, then the rows in a fixed order: the same bits run to run.
+    gatherKernel.run(numAtoms, -1, static_cast<int>(FrictionFeedback), numAtoms, cc.getPosq(), CommonDPDProgram::positionCorrections(cc),
+                     grid->getBoxSize(), grid->getInverseBoxSize(), grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(),
+                     grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
+                     friction.maxCutoff, kT, 0.0, std::uint64_t(0), shear->flow().getShearRate(), cc.getVelm(), cc.getLongForceBuffer(), 0, 0,
+                     feedbackRows);
+    sumRowsKernel.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, numAtoms, 1, feedbackRows, feedbackSum, 0, 0);
+    double sum; // read back: xi lives in the scheme layer (DPDSchemeState), which the next O sweep's argument gives the device
+    feedbackSum.download(&sum);
+    return sum;
 }
 
 void CommonDPDStepBackend::sweepBBK(const DPDSweepRequest& request) {
@@ -324,7 +347,7 @@ void CommonDPDStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& 
     int numAtoms = cc.getNumAtoms(), gatherStress = accumulateStress && request.gatherStress ? 1 : 0;
     OpenMM::ComputeArray& stressRows = stress->blockRows(gatherStress ? numAtoms : 1); // one row a particle
     std::uint64_t key = request.randomKey;
-    gatherForcesKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(),
+    gatherKernel.run(numAtoms, -1, static_cast<int>(DissipativeAndRandomForces), numAtoms, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(),
                            grid->getInverseBoxSize(), grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(),
                            cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
                            request.dt, key, shear->flow().getShearRate(), cc.getVelm(), forces, latestForcesStored ? 1 : 0, gatherStress,

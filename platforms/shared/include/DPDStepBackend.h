@@ -99,10 +99,10 @@ public:
     virtual void sweepOrnsteinUhlenbeck(const DPDSweepRequest& sweep) = 0;
     /**
      * PAdL's D: sum_{i<j} w^2 [(e.u)^2 - kT/m_ij] over the sweep's pairs at the current positions and
-     * velocities (u lab-frame under shear), in the pairs' fixed order; the scheme layer advances xi with it.
-     * This definition refuses: a platform that runs PAdL overrides it.
+     * velocities (u lab-frame under shear), in a fixed order (the same bits run to run); the scheme layer
+     * advances xi with it.
      */
-    virtual double sumFrictionFeedback();
+    virtual double sumFrictionFeedback() = 0;
     /** Shardlow's BBK sweep. */
     virtual void sweepBBK(const DPDSweepRequest& sweep) = 0;
     /** F^D + F^R at the current velocities added to the latest forces (VV). */

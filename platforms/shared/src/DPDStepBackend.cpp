@@ -202,8 +202,3 @@ void DPDStepBackend::readTransport(DPDIntegrator::TransportStatistics& statistic
     statistics = transport;
     statistics.steps = steps;
 }
-
-double DPDStepBackend::sumFrictionFeedback() {
-    throw OpenMM::OpenMMException("DPDIntegrator: the PAdL scheme is not available on the "+context.getPlatform().getName()+
-                                  " platform; it runs on Reference and CPU");
-}

@@ -35,6 +35,15 @@ inline ::testing::AssertionResult nearOne(const BlockEstimate& estimate, double 
     return ::testing::AssertionFailure() << estimate.mean << " +- " << estimate.standardError << " is farther than " << bound << " from 1";
 }
 
+/** |a - b| < 5 combined standard errors, with the numbers in the failure message. */
+inline ::testing::AssertionResult agreeWithinError(const BlockEstimate& a, const BlockEstimate& b) {
+    double bound = 5*std::hypot(a.standardError, b.standardError);
+    if (std::fabs(a.mean-b.mean) < bound)
+        return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << a.mean << " +- " << a.standardError << " against " << b.mean << " +- " << b.standardError
+                                         << ": the difference passes 5 combined standard errors, " << bound;
+}
+
 /** Two species (A: the first half, B: the rest) with a_AB = 40 and gamma_AB = 9, the others 25 and 4.5. */
 inline void makeTwoSpecies(OpenMM::System& system, OpenMMDPD::DPDIntegrator* integrator) {
     auto& force = dynamic_cast<OpenMMDPD::DPDForce&>(system.getForce(0));

@@ -125,15 +125,6 @@ Temperatures measureTemperatures(const EquilibratedFluid& start, const std::stri
     return result;
 }
 
-/** |a - b| < 5 combined standard errors, with the numbers in the failure message. */
-::testing::AssertionResult agreeWithinError(const BlockEstimate& a, const BlockEstimate& b) {
-    double bound = 5*std::hypot(a.standardError, b.standardError);
-    if (std::fabs(a.mean-b.mean) < bound)
-        return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << a.mean << " +- " << a.standardError << " against " << b.mean << " +- " << b.standardError
-                                         << ": the difference passes 5 combined standard errors, " << bound;
-}
-
 } // namespace
 
 class GPUScheme : public ::testing::TestWithParam<std::string> {};
