@@ -88,10 +88,12 @@ study-full: build
 	$(PYTHON) -m openmmdpd_studies.efficiency $(SCENES) --budget full --out study-full
 
 # The paper's claims about its other methods (BAOAB, BAOOAB, S1-OU; Shang 2021 sec. 2.3 and after Figure 4):
-# the claims table with error bars and verdicts in claims-report/report.md; about 15-20 minutes on 2 cores.
+# the claims table with error bars and verdicts in claims-report/report.md, and PAdL's dynamics against DPD's
+# (claim 9) in claims-report/padl-dynamics/report.md; about 20 minutes on 2 cores.
 claims: build
 	$(PYTHON) -m openmmdpd_studies.efficiency examples/scenes/soft_fluid_gamma4.5.toml examples/scenes/soft_fluid_gamma200.toml \
 		examples/scenes/soft_fluid_gamma450.toml --budget claims --methods ABOBA BAOAB BAOOAB S1 S1-OU PAdL --workers 2 --out claims-report
+	$(PYTHON) -m openmmdpd_studies.padl_dynamics --workers 2 --out claims-report/padl-dynamics
 
 # The transport study (NEMD and matched Norton, friction and system-size scans): about 9 minutes on 2 cores
 # at the reduced budget.

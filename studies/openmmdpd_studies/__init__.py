@@ -5,6 +5,9 @@
   (``python -m openmmdpd_studies.efficiency SCENE.toml ... --budget reduced --out DIR``);
 - :mod:`openmmdpd_studies.transport`: transport coefficients with NEMD and stochastic Norton dynamics
   (Wu & Shang; ``python -m openmmdpd_studies.transport SCENE.toml --budget reduced --out DIR``);
+- :mod:`openmmdpd_studies.padl_dynamics`: PAdL's dynamics against DPD's at the same mean friction (VACF,
+  diffusion, Lees-Edwards viscosity), claim 9 of the claims table
+  (``python -m openmmdpd_studies.padl_dynamics --out DIR``);
 - :mod:`openmmdpd_studies.resumable_runs`: the runs of either study on a Dask cluster, saved as they
   finish so that a killed study resumes.
 

@@ -65,7 +65,10 @@ VERDICT_RULES = [
     "**7 (PAdL outperforms DPD-S1)**: the ratio of critical step sizes h_c(PAdL)/h_c(S1) (10 % error of T_conf) with "
     "its range from the one-s.e. ranges. Holds if the whole range lies above 1, does not hold if it lies below, not "
     "resolved otherwise. **8 (PAdL against ABOBA)** is the question the paper leaves open: the same ratio against "
-    "ABOBA and the ratio of times per step, reported without a verdict.",
+    "ABOBA and the ratio of times per step, reported without a verdict; and the RDF's critical step size of "
+    f"PAdL, ABOBA and S1: g(r) at each step size against ABOBA's at its smallest, the range from the largest step "
+    f"up to which every point passes claim 2's test (|Δg| + 2σ ≤ {RDF_TOLERANCE} over the resolving bins) to the "
+    f"smallest at which a resolving bin fails it beyond its error bar (|Δg| − 2σ > {RDF_TOLERANCE}) or the method is unstable.",
 ]
 
 
@@ -235,33 +238,72 @@ def run_scatter_rdf(point: Dict, scene: Scene) -> Tuple[np.ndarray, np.ndarray, 
     return curves[0][0], g.mean(axis=0), error
 
 
+def rdf_difference(point: Dict, reference_point: Dict, scene: Scene) -> Optional[Dict[str, float]]:
+    """Over the bins of g(r) of two points: the largest |g - g_reference| and |Δg| - 2 sigma (all bins), the
+    largest |Δg| + 2 sigma and |Δg| - 2 sigma over the bins that resolve RDF_TOLERANCE (sigma <=
+    RDF_TOLERANCE / 5, so that the largest noise excursion of some 45 bins, about 3 sigma, still passes:
+    the few pairs at the smallest r cannot), their fraction, and chi2/dof; None when no bin has an error bar."""
+    _, g, error = run_scatter_rdf(point, scene)
+    _, g_ref, error_ref = run_scatter_rdf(reference_point, scene)
+    delta, sigma = g - g_ref, np.hypot(error, error_ref)
+    keep = np.isfinite(sigma) & (sigma > 0)
+    if not keep.any():
+        return None
+    delta, sigma = np.abs(delta[keep]), sigma[keep]
+    resolving = 5 * sigma <= RDF_TOLERANCE
+    return {"step_size": point["step_size"], "max_difference": float(delta.max()),
+            "lower": float((delta - 2 * sigma).max()),
+            "upper": float((delta + 2 * sigma)[resolving].max()) if resolving.any() else math.inf,
+            "lower_resolving": float((delta - 2 * sigma)[resolving].max()) if resolving.any() else -math.inf,
+            "resolving_bins": float(resolving.mean()), "chi2_dof": float(np.mean((delta / sigma) ** 2))}
+
+
+def _rdf_passes(row: Dict[str, float]) -> bool:
+    return row["upper"] <= RDF_TOLERANCE and row["resolving_bins"] >= 1 / 2
+
+
 def rdf_differences(entry: Dict, reference: Dict, scene: Scene, usable_error: float = 0.1) -> List[Dict[str, float]]:
-    """Per common step size at which both methods' |T_conf error| is below ``usable_error`` (when
-    measured), over the bins of g(r): the largest |g - g_reference| and |Δg| - 2 sigma (all bins), the
-    largest |Δg| + 2 sigma over the bins that resolve RDF_TOLERANCE (sigma <= RDF_TOLERANCE / 5, so that
-    the largest noise excursion of some 45 bins, about 3 sigma, still passes: the few pairs at the
-    smallest r cannot), their fraction, and chi2/dof."""
+    """:func:`rdf_difference` at each common step size at which both methods' |T_conf error| is below
+    ``usable_error`` (when measured)."""
     def usable(p: Dict) -> bool:
         return "rdf_run_histograms" in p and abs(p.get("relative_error", 0.0)) < usable_error
 
     ref = {p["step_size"]: p for p in reference["points"] if usable(p)}
-    rows = []
-    for point in entry["points"]:
-        if not usable(point) or point["step_size"] not in ref:
+    rows = [rdf_difference(point, ref[point["step_size"]], scene) for point in entry["points"]
+            if usable(point) and point["step_size"] in ref]
+    return [row for row in rows if row is not None]
+
+
+def rdf_reference_point(entry: Dict) -> Optional[Dict]:
+    """The point of ``entry`` at its smallest step size that holds per-run RDF histograms (None if none)."""
+    points = [p for p in entry["points"] if "rdf_run_histograms" in p]
+    return min(points, key=lambda p: p["step_size"]) if points else None
+
+
+def rdf_critical_step_range(entry: Dict, reference_point: Dict, scene: Scene) -> Dict[str, float]:
+    """The RDF's critical step size, as a range: g(r) at each step size against one reference g (a small
+    step's, :func:`rdf_reference_point`).  ``low`` is the largest step size up to which every point passes
+    (|Δg| + 2 sigma <= RDF_TOLERANCE over the resolving bins, at least half of them), ``high`` the smallest
+    at which g has left the tolerance beyond its error bar (|Δg| - 2 sigma > RDF_TOLERANCE in a resolving
+    bin: the scatter of five runs' few pairs at the smallest r is no error bar) or the method was unstable
+    (infinite when neither happened in the step range)."""
+    low, high = 0.0, math.inf
+    if entry.get("unstable_at"):
+        high = float(entry["unstable_at"])
+    passing = True
+    for point in sorted(entry["points"], key=lambda p: p["step_size"]):
+        if "rdf_run_histograms" not in point or point is reference_point:
             continue
-        _, g, error = run_scatter_rdf(point, scene)
-        _, g_ref, error_ref = run_scatter_rdf(ref[point["step_size"]], scene)
-        delta, sigma = g - g_ref, np.hypot(error, error_ref)
-        keep = np.isfinite(sigma) & (sigma > 0)
-        if not keep.any():
+        row = rdf_difference(point, reference_point, scene)
+        if row is None:
             continue
-        delta, sigma = np.abs(delta[keep]), sigma[keep]
-        resolving = 5 * sigma <= RDF_TOLERANCE
-        rows.append({"step_size": point["step_size"], "max_difference": float(delta.max()),
-                     "lower": float((delta - 2 * sigma).max()),
-                     "upper": float((delta + 2 * sigma)[resolving].max()) if resolving.any() else math.inf,
-                     "resolving_bins": float(resolving.mean()), "chi2_dof": float(np.mean((delta / sigma) ** 2))})
-    return rows
+        if row["lower_resolving"] > RDF_TOLERANCE:
+            high = min(high, point["step_size"])
+            break
+        passing = passing and _rdf_passes(row)
+        if passing:
+            low = point["step_size"]
+    return {"low": low, "high": high}
 
 
 def _pm(value: Optional[float], error: float, fmt: str = "{:.2f}") -> str:
@@ -296,7 +338,7 @@ def _rdf_row(scene: Scene, methods: Dict[str, Dict]) -> List[ClaimRow]:
         return [ClaimRow(2, "BAOAB's RDF is very similar to ABOBA's", scene.name, "no common step size with run scatter", UNRESOLVED)]
     if any(r["lower"] > RDF_TOLERANCE for r in rows):
         verdict = FAILS
-    elif all(r["upper"] <= RDF_TOLERANCE and r["resolving_bins"] >= 1 / 2 for r in rows):
+    elif all(_rdf_passes(r) for r in rows):
         verdict = HOLDS
     else:
         verdict = UNRESOLVED
@@ -389,7 +431,27 @@ def _padl_rows(scene: Scene, methods: Dict[str, Dict]) -> List[ClaimRow]:
             measured += f"; t_PAdL/t_ABOBA = {_pm(cost['ratio'], cost['ratio_error'])} ({cost['rounds']} rounds)"
             extra["cost"] = cost
         rows.append(ClaimRow(8, "PAdL against ABOBA (the paper's open question)", scene.name, measured, NO_CLAIM, extra))
+    rows.extend(_padl_rdf_rows(scene, methods))
     return rows
+
+
+def _padl_rdf_rows(scene: Scene, methods: Dict[str, Dict]) -> List[ClaimRow]:
+    """Claim 8's RDF part: the RDF's critical step size of PAdL, ABOBA and DPD-S1, each against one
+    reference g(r), ABOBA's at its smallest step (PAdL's own without ABOBA)."""
+    if "rdf" not in scene.observables:
+        return []
+    reference = rdf_reference_point(methods.get("ABOBA") or methods["PAdL"])
+    if reference is None:
+        return []
+    ranges = {m: rdf_critical_step_range(methods[m], reference, scene) for m in ("PAdL", "ABOBA", "S1") if m in methods}
+
+    def shown(r: Dict[str, float]) -> str:
+        return f"[{r['low']:.3f}, {'∞' if math.isinf(r['high']) else format(r['high'], '.3f')}]"
+
+    measured = (f"h_c of g(r) (within {RDF_TOLERANCE} of ABOBA's at h = {reference['step_size']:.3f}): "
+                + "; ".join(f"{m} {shown(r)}" for m, r in ranges.items()))
+    return [ClaimRow(8, "PAdL against ABOBA and DPD-S1: the RDF's critical step size", scene.name, measured, NO_CLAIM,
+                     {"reference_step_size": reference["step_size"], "ranges": ranges})]
 
 
 def paper_claims(scenes: Sequence[Scene], summaries: Sequence[Dict]) -> List[ClaimRow]:
@@ -404,14 +466,16 @@ def paper_claims(scenes: Sequence[Scene], summaries: Sequence[Dict]) -> List[Cla
     return sorted(rows, key=lambda row: row.number)
 
 
-def claims_section(rows: Sequence[ClaimRow]) -> List[str]:
+def claims_section(rows: Sequence[ClaimRow],
+                   title: str = "The paper's claims about its other methods (Shang 2021 sec. 2.3 and after Figure 4)",
+                   rules: Sequence[str] = tuple(VERDICT_RULES)) -> List[str]:
     """The report's markdown section: the verdict rules and the table (empty without rows)."""
     if not rows:
         return []
-    lines = ["## The paper's claims about its other methods (Shang 2021 sec. 2.3 and after Figure 4)", "",
+    lines = [f"## {title}", "",
              "Verdicts: *holds* — the measured range lies inside the region the claim names; *does not hold* — "
              "it lies outside; *not resolved at this budget* — it straddles the edge, or too few points are "
-             "resolved. Rules, per claim:", "", *[f"- {rule}" for rule in VERDICT_RULES], "",
+             "resolved. Rules, per claim:", "", *[f"- {rule}" for rule in rules], "",
              "| # | claim | scene | measured | verdict |", "|---|---|---|---|---|"]
 
     def cell(text: str) -> str:

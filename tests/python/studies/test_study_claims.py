@@ -12,7 +12,7 @@ import pytest
 
 from openmmdpd_studies.efficiency.claims import (FAILS, HOLDS, UNRESOLVED, cost_ratio, critical_ratio, crossover_level,
                                     efficiency_ratio, error_differences, interval_verdict, order_fit, paper_claims,
-                                    rdf_differences, step_size_at)
+                                    rdf_critical_step_range, rdf_differences, rdf_reference_point, step_size_at)
 from openmmdpd_studies.efficiency.scene import load_scene
 
 SCENES = Path(__file__).resolve().parents[3] / "examples" / "scenes"
@@ -184,6 +184,26 @@ def test_rdf_difference_sees_a_shift_larger_than_the_tolerance_only():
                                "BAOAB": {"points": [_rdf_point(0.05, 5, rng, shift)], "unstable_at": None}}}
         (rows[shift],) = [r for r in paper_claims([scene], [summary]) if r.number == 2]
     assert rows[0.0].verdict == HOLDS and rows[0.1].verdict == FAILS
+
+
+def test_rdf_critical_step_range_brackets_where_g_leaves_the_tolerance():
+    # g(r) shifted by 0.1 in one bin from h = 0.2 on: the range is [0.15, 0.2]; an instability at 0.18
+    # closes it there; and a shift nowhere leaves it open.  The rows of claim 8 carry the three ranges.
+    scene = load_scene(SCENES / "soft_fluid_gamma4.5.toml")
+    rng = np.random.default_rng(9)
+    aboba = {"points": [_rdf_point(0.01, 5, rng), _rdf_point(0.2, 5, rng)], "unstable_at": None}
+    reference = rdf_reference_point(aboba)
+    assert reference["step_size"] == 0.01
+    steps = (0.05, 0.1, 0.15, 0.2, 0.25)
+    padl = {"points": [_rdf_point(h, 5, rng, 0.1 if h >= 0.2 else 0.0) for h in steps], "unstable_at": None}
+    assert rdf_critical_step_range(padl, reference, scene) == {"low": 0.15, "high": 0.2}
+    assert rdf_critical_step_range(dict(padl, unstable_at=0.18), reference, scene) == {"low": 0.15, "high": 0.18}
+    s1 = {"points": [_rdf_point(h, 5, rng) for h in steps], "unstable_at": None}
+    assert rdf_critical_step_range(s1, reference, scene) == {"low": 0.25, "high": math.inf}
+    (row,) = [r for r in paper_claims([scene], [{"methods": {"ABOBA": aboba, "PAdL": padl, "S1": s1}}])
+              if "RDF's critical" in r.claim]
+    assert row.numbers["ranges"]["PAdL"] == {"low": 0.15, "high": 0.2}
+    assert "PAdL [0.150, 0.200]" in row.measured and "S1 [0.250, ∞]" in row.measured and "ABOBA [0.200, ∞]" in row.measured
 
 
 def test_methods_option_rejects_unknown_names_and_lists_the_allowed_ones(capsys):
