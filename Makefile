@@ -35,7 +35,7 @@ test-cpp: build
 	ctest --test-dir $(BUILD) --output-on-failure -j$(JOBS)
 
 test-python: build
-	$(PYTHON) -m pytest tests/python -q
+	$(PYTHON) -m pytest tests/python -q --durations=12
 
 test: test-cpp test-python
 
