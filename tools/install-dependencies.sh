@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs what the build needs and is missing: Debian's compilers, CMake, GoogleTest, Doxygen and OpenCL on
+# Installs what the build needs and is missing: Debian's compilers, CMake, ccache, GoogleTest, Doxygen and OpenCL on
 # the CPU (pocl, so that kernel sources compile and run in the tests without a GPU), then the Python
 # packages of requirements.txt.  Quiet and quick when everything is already there.
 set -euo pipefail
@@ -12,6 +12,7 @@ command -v g++ >/dev/null || missing+=(g++)
 command -v make >/dev/null || missing+=(make)
 [ -f /usr/include/gtest/gtest.h ] || missing+=(libgtest-dev)
 command -v doxygen >/dev/null || missing+=(doxygen)   # make docs: the C++ API
+command -v ccache >/dev/null || missing+=(ccache)     # a fresh clone's build compiles only what changed (CMakeLists.txt)
 # OpenCL on the CPU (pocl), so that kernel sources are compiled and run in the tests without a GPU.
 [ -f /usr/include/CL/cl.h ] || missing+=(opencl-c-headers)
 [ -e /usr/lib/x86_64-linux-gnu/libOpenCL.so ] || [ -e /usr/lib/libOpenCL.so ] || missing+=(ocl-icd-opencl-dev)
