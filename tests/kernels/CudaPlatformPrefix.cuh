@@ -46,16 +46,28 @@ typedef double4 mixed4;
 #define PADDED_NUM_ATOMS 1024
 #define DPD_SCAN_SIZE 256
 #define DPD_SCAN_TILE 2048
-// CommonDPDProgram::compile's sweep sizes (maxBlockWidth 4, sweepPairsPerLane, sweepCapacity's default): ptxas refuses a
-// kernel whose static shared memory passes CUDA's 48 KiB, so this also checks the capacity fits.
+// CommonDPDProgram::compile's sweep sizes (maxBlockWidth 4, sweepPairsPerLane, sweepCapacity's default, with
+// DPD_SWEEP_BLOCKS from the command line: OPENMMDPD_GPU_SWEEP_BLOCKS, 1 if not given): ptxas refuses a kernel
+// whose static shared memory passes CUDA's 48 KiB, so this also checks the capacity fits.
 #define DPD_SWEEP_MAX_BLOCK_CELLS 64
 #define DPD_SWEEP_MAX_REGION_CELLS 180
 #define DPD_SWEEP_LANES 64
+#ifndef DPD_SWEEP_BLOCKS
+#define DPD_SWEEP_BLOCKS 1
+#endif
 #define DPD_SWEEP_PAIRS_PER_LANE 4
 #define DPD_SWEEP_IN_ROUNDS 1
-#if defined(DPD_PRECISION_SINGLE)
+#if DPD_SWEEP_BLOCKS == 1 && defined(DPD_PRECISION_SINGLE)
 #define DPD_SWEEP_CAPACITY 489
-#else
+#elif DPD_SWEEP_BLOCKS == 1
 #define DPD_SWEEP_CAPACITY 293
+#elif DPD_SWEEP_BLOCKS == 2 && defined(DPD_PRECISION_SINGLE)
+#define DPD_SWEEP_CAPACITY 276
+#elif DPD_SWEEP_BLOCKS == 2
+#define DPD_SWEEP_CAPACITY 165
+#elif DPD_SWEEP_BLOCKS == 4 && defined(DPD_PRECISION_SINGLE)
+#define DPD_SWEEP_CAPACITY 20
+#else
+#define DPD_SWEEP_CAPACITY 12
 #endif
 #define DPD_KERNEL_SOURCE

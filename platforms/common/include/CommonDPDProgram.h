@@ -26,12 +26,23 @@ public:
      */
     static constexpr int sweepPairsPerLane = 4;
     /**
+     * How many blocks of a colour one of the sweep's work-groups sweeps side by side, sweepLanes lanes
+     * each (dpdPairSweep.cc): 1, or the environment variable OPENMMDPD_GPU_SWEEP_BLOCKS (from 1 to 4,
+     * as many as CUDA's 48 KiB of static shared memory holds the arrays of, and the device's work-group
+     * size allows).  OpenMM caps a launch's work-groups at a few a multiprocessor, so more blocks a
+     * work-group puts more blocks in flight, each with less local memory for its region; the bits are
+     * the same whatever the number (tested).  Which is fastest is for a GPU to say (benchmarks/bench_gpu.py
+     * --sweep-blocks, the cost model's what-if).
+     */
+    static int sweepBlocks(OpenMM::ComputeContext& cc);
+    /**
      * How many particles of a block's region (the block and the cells its pairs reach) the sweep holds
-     * in local memory: what 34 KiB leaves after the sweep's other arrays (CommonDPDProgram.cpp says why:
-     * 293 particles in mixed and double precision, 489 in single), or the environment variable
-     * OPENMMDPD_GPU_SWEEP_CAPACITY (from 0 to what 48 KiB holds, 472 or 788: for a device with less or
-     * more local memory, or to test the path of regions that do not fit).  A region with more particles
-     * is swept in global memory: the same bits, more slowly.
+     * in local memory: what 34 KiB leaves after the sweep's other arrays with one block a work-group, what
+     * 48 KiB leaves shared among several (CommonDPDProgram.cpp says why: 293 particles in mixed and double
+     * precision, 489 in single; with two blocks 165 and 276), or the environment variable
+     * OPENMMDPD_GPU_SWEEP_CAPACITY (from 0 to what 48 KiB holds, 472 or 788 with one block: for a device
+     * with less or more local memory, or to test the path of regions that do not fit).  A region with
+     * more particles is swept in global memory: the same bits, more slowly.
      */
     static int sweepCapacity(OpenMM::ComputeContext& cc);
     /**

@@ -123,6 +123,7 @@ private:
     const OpenMM::ForceImpl* sharedForceImpl = nullptr;      // sharedForceKernel's force
     std::unique_ptr<DPDConservativeVirial> otherForcesVirial; // the conservative stress of the integrated forces but that one
     CommonDPDKernel kickKernel, driftKernel, sweepKernel, gatherKernel, sumRowsKernel;
+    int sweepBlocks = 1; // the blocks a sweep's work-group sweeps side by side, as compiled (CommonDPDProgram::sweepBlocks)
     std::unique_ptr<CommonDPDLeesEdwards> shear;
     std::unique_ptr<CommonDPDForcing> forcing;
     OpenMM::ComputeArray typeOf, frictionValues, frictionCutoffs, storedForces, flags;

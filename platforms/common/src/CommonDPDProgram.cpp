@@ -4,6 +4,7 @@
 #include "DPDKernelSources.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
+#include <algorithm>
 #include <cstdlib>
 #include <map>
 #include <string>
@@ -24,6 +25,7 @@ OpenMM::ComputeProgram CommonDPDProgram::compile(OpenMM::ComputeContext& cc, con
     defines["DPD_SWEEP_MAX_REGION_CELLS"] = cc.intToString((width+2)*(width+2)*(width+1));
     defines["DPD_SWEEP_CAPACITY"] = cc.intToString(sweepCapacity(cc));
     defines["DPD_SWEEP_LANES"] = cc.intToString(sweepLanes);
+    defines["DPD_SWEEP_BLOCKS"] = cc.intToString(sweepBlocks(cc));
     defines["DPD_SWEEP_PAIRS_PER_LANE"] = cc.intToString(sweepPairsPerLane);
     defines["DPD_SWEEP_IN_ROUNDS"] = sweepInRounds() ? "1" : "0";
     defines["DPD_KERNEL_SOURCE"] = "";
@@ -33,30 +35,59 @@ OpenMM::ComputeProgram CommonDPDProgram::compile(OpenMM::ComputeContext& cc, con
     return cc.compileProgram(source, defines);
 }
 
+namespace {
+
+// What CUDA's static shared memory holds for one work-group (OpenCL devices: at least 32 KiB).
+constexpr int largestLocalBytes = 48*1024;
+
+/**
+ * dpdSweepColour's local bytes a block other than its region's particles: the region's cells and the
+ * block's (ints; a byte for each block cell's region cell and 13 for its half stencil's), the lanes' int
+ * and double sums and three flags, two ints for the lockstep, and the buffer of pairs (two ints, two
+ * doubles, three shorts each, sweepPairsPerLane a lane).
+ */
+int sweepBytesBesideTheRegion() {
+    int width = CommonDPDCellGrid::maxBlockWidth, lanes = CommonDPDProgram::sweepLanes;
+    int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+lanes+3+2)+8*lanes+14*width*width*width;
+    return cellBytes+CommonDPDProgram::sweepPairsPerLane*lanes*(2*4+2*8+3*2);
+}
+
+/** A whole number from an environment variable, from smallest to largest, or an exception naming it and the range. */
+int wholeNumberSetting(const char* name, const char* setting, long smallest, long largest, const std::string& unit,
+                       const std::string& qualifier) {
+    char* end = nullptr;
+    long value = std::strtol(setting, &end, 10);
+    if (end == setting || *end != '\0' || value < smallest || value > largest)
+        throw OpenMM::OpenMMException(std::string(name)+" is '"+setting+"': it must be a whole number of "+unit+" from "+
+                                      std::to_string(smallest)+" to "+std::to_string(largest)+qualifier);
+    return static_cast<int>(value);
+}
+
+} // namespace
+
+int CommonDPDProgram::sweepBlocks(OpenMM::ComputeContext& cc) {
+    const char* setting = std::getenv("OPENMMDPD_GPU_SWEEP_BLOCKS");
+    if (setting == nullptr)
+        return 1;
+    // As many as 48 KiB holds the arrays of with a region of at least one particle each, and the work-group size allows.
+    int largest = std::min(largestLocalBytes/(sweepBytesBesideTheRegion()+4*4+2*32), cc.getMaxThreadBlockSize()/sweepLanes);
+    return wholeNumberSetting("OPENMMDPD_GPU_SWEEP_BLOCKS", setting, 1, largest, "blocks", " a work-group on this device");
+}
+
 int CommonDPDProgram::sweepCapacity(OpenMM::ComputeContext& cc) {
-    // dpdSweepColour's local arrays: the region's cells and the block's (ints; a byte for each block cell's
-    // region cell and 13 for its half stencil's), the lanes' int and double sums and three flags, the
-    // buffer of pairs (two ints, two doubles, three shorts each, sweepPairsPerLane a lane), and per
-    // particle four ints and two mixed4 (position, velocity).
-    int width = CommonDPDCellGrid::maxBlockWidth;
-    int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+sweepLanes+3)+8*sweepLanes+14*width*width*width;
-    int pairBytes = sweepPairsPerLane*sweepLanes*(2*4+2*8+3*2);
+    // Per particle four ints and two mixed4 (position, velocity).
     int particleBytes = 4*4+2*(cc.getUseDoublePrecision() || cc.getUseMixedPrecision() ? 32 : 16);
-    auto capacityWithin = [&](int bytes) { return (bytes-cellBytes-pairBytes)/particleBytes; };
-    if (const char* setting = std::getenv("OPENMMDPD_GPU_SWEEP_CAPACITY")) {
-        // At most what CUDA's 48 KiB of static shared memory a block holds (OpenCL devices: at least 32 KiB).
-        int largest = capacityWithin(48*1024);
-        char* end = nullptr;
-        long capacity = std::strtol(setting, &end, 10);
-        if (end == setting || *end != '\0' || capacity < 0 || capacity > largest)
-            throw OpenMM::OpenMMException(std::string("OPENMMDPD_GPU_SWEEP_CAPACITY is '")+setting+"': it must be a whole number of "
-                                          "particles from 0 to "+std::to_string(largest)+" in this precision");
-        return static_cast<int>(capacity);
-    }
-    // Within 34 KiB a work-group: OpenMM launches at most 4 or 6 work-groups a multiprocessor (its grid is
-    // capped at numThreadBlocks), and 6 x (34 KiB + the 1 KiB CUDA reserves a block) fit in the 228 KiB of
-    // an H100's or H200's multiprocessor, so the local memory never keeps a launched work-group waiting.
-    return capacityWithin(34*1024);
+    int blocks = sweepBlocks(cc);
+    auto capacityWithin = [&](int bytes) { return (bytes/blocks-sweepBytesBesideTheRegion())/particleBytes; };
+    if (const char* setting = std::getenv("OPENMMDPD_GPU_SWEEP_CAPACITY"))
+        return wholeNumberSetting("OPENMMDPD_GPU_SWEEP_CAPACITY", setting, 0, capacityWithin(largestLocalBytes), "particles",
+                                  std::string(blocks > 1 ? " a block with "+std::to_string(blocks)+" blocks a work-group" : "")+
+                                  " in this precision");
+    // One block: within 34 KiB a work-group, as OpenMM launches at most 4 or 6 work-groups a multiprocessor
+    // (its grid is capped at numThreadBlocks), and 6 x (34 KiB + the 1 KiB CUDA reserves a block) fit in
+    // the 228 KiB of an H100's or H200's multiprocessor, so the local memory never keeps a launched
+    // work-group waiting.  Several: the 48 KiB shared among them, 4 work-groups a multiprocessor.
+    return capacityWithin(blocks == 1 ? 34*1024 : largestLocalBytes);
 }
 
 bool CommonDPDProgram::sweepInRounds() {

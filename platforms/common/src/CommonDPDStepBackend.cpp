@@ -52,6 +52,7 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
         throw OpenMM::OpenMMException("DPDIntegrator: constraints are not supported");
     OpenMM::ContextSelector selector(cc);
     OpenMM::ComputeProgram program = CommonDPDProgram::compile(cc, "DPDIntegrator");
+    sweepBlocks = CommonDPDProgram::sweepBlocks(cc);
     ownGrid = std::make_unique<CommonDPDCellGrid>(cc, program);
     grid = ownGrid.get();
     kickKernel = CommonDPDKernel(program, "dpdKick");
@@ -294,7 +295,8 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
         int colour = request.reversed ? layout.numColours-1-n : n;
         if (!layout.colourIsUsed(colour))
             continue;
-        sweepKernel.run(layout.blocksPerColour*CommonDPDProgram::sweepLanes, CommonDPDProgram::sweepLanes, colour, layout.numCells,
+        int groupSize = sweepBlocks*CommonDPDProgram::sweepLanes, numGroups = (layout.blocksPerColour+sweepBlocks-1)/sweepBlocks;
+        sweepKernel.run(numGroups*groupSize, groupSize, colour, layout.numCells,
                         layout.numBlocks, layout.blocksPerColour, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(),
                         grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf,
                         frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT, request.dt, key, mode,

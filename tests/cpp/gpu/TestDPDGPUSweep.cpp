@@ -124,6 +124,30 @@ TEST(GPUSweep, RoundsOfDisjointPairsGiveTheBitsOfTheChain) {
     }
 }
 
+TEST(GPUSweep, BlocksSweptSideBySideGiveTheBitsOfOneBlockAWorkGroup) {
+    // OPENMMDPD_GPU_SWEEP_BLOCKS puts several blocks of a colour in one work-group, a slice of lanes
+    // each, in lockstep: each slice's buffer fills and is applied where it would be alone and its lanes
+    // own the same pairs, so every scheme, with Norton's response and Lees-Edwards shear, must give the
+    // bits of one block a work-group: trajectory, stress and Norton's sums.  1536 particles: 8 blocks a
+    // colour, so with 3 a work-group the last work-group has a slice with no block; with 2 and the
+    // capacity at 150 some regions (about 150 particles) are held and some swept in global memory, side
+    // by side; with 3 (capacity 63) every region takes the global path.  Mutations: applying every
+    // slice's buffer whenever one slice's is full (the lanes then own other pairs) fails it; slices
+    // sharing their lanes' sums (an unsegmented scan) index past their slice and crash it.
+    EquilibratedFluid start = equilibratedSoftFluid(1536);
+    makeTwoSpecies(*start.fluid.system, nullptr);
+    for (const char* scheme : {"ABOBA", "S1", "BAOOAB", "ABOBA+Norton", "ABOBA+shear"}) {
+        SweptRun alone = sweptRun(start, scheme, 8);
+        for (const char* blocks : {"2", "3"}) {
+            EnvironmentSetting sideBySide("OPENMMDPD_GPU_SWEEP_BLOCKS", blocks);
+            EXPECT_TRUE(sameBits(sweptRun(start, scheme, 8), alone)) << scheme << ", " << blocks << " blocks a work-group";
+        }
+        EnvironmentSetting sideBySide("OPENMMDPD_GPU_SWEEP_BLOCKS", "2");
+        EnvironmentSetting capacity("OPENMMDPD_GPU_SWEEP_CAPACITY", "150");
+        EXPECT_TRUE(sameBits(sweptRun(start, scheme, 8), alone)) << scheme << ", 2 blocks a work-group, capacity 150";
+    }
+}
+
 TEST(GPUSweep, ProfileRecordsEachBlocksRoundsAndPairsWithoutChangingTheBits) {
     // With OPENMMDPD_GPU_SWEEP_PROFILE set, each sweep appends its blocks' rounds and pairs (the cost
     // model's input, benchmarks/gpu_cost_model.py).  Observing changes nothing: the run's bits are those
@@ -174,6 +198,12 @@ TEST(GPUSweep, SweepSettingsOutOfRangeRaiseNamingThem) {
         EnvironmentSetting order("OPENMMDPD_GPU_SWEEP_ORDER", "sideways");
         EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_ORDER is 'sideways'", "rounds (the default) or chain"}));
     }
+    for (const char* value : {"0", "5", "two"}) {
+        EnvironmentSetting blocks("OPENMMDPD_GPU_SWEEP_BLOCKS", value);
+        EXPECT_TRUE(firstStepRaisesMentioning(fluid, {std::string("OPENMMDPD_GPU_SWEEP_BLOCKS is '")+value+"'",
+                                                      "a whole number of blocks from 1 to 4 a work-group on this device"}))
+            << value;
+    }
     EnvironmentSetting profile("OPENMMDPD_GPU_SWEEP_PROFILE", "/no/such/folder/profile.jsonl");
     EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_PROFILE is '/no/such/folder/profile.jsonl'", "cannot be opened"}));
 }
@@ -205,5 +235,9 @@ TEST(GPUSweep, SweepCapacityOutOfRangeRaisesNamingIt) {
                                                       "a whole number of particles from 0 to 472 in this precision"}))
             << value;
     }
+    // With two blocks a work-group each has half of the 48 KiB less its other arrays: 165 particles.
+    EnvironmentSetting blocks("OPENMMDPD_GPU_SWEEP_BLOCKS", "2");
+    EnvironmentSetting setting("OPENMMDPD_GPU_SWEEP_CAPACITY", "166");
+    EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_CAPACITY is '166'",
+                                                  "from 0 to 165 a block with 2 blocks a work-group in this precision"}));
 }
-

@@ -105,20 +105,23 @@ KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 boxSize, dou
 #define DPD_SCAN_CELLS_PER_THREAD (DPD_SCAN_TILE/DPD_SCAN_SIZE) // DPD_SCAN_TILE: CommonDPDCellGrid::scanTile
 
 /**
- * The sum of the work-group's values before this thread's (every thread calls it with its value;
- * Hillis-Steele in `sums`, one entry a thread); sums[LOCAL_SIZE-1] then holds the work-group's total.
+ * The sum of the values before this lane's among the numLanes lanes of its group (lane: 0 to
+ * numLanes-1; the work-group's lanes in consecutive groups of numLanes, each scanned on its own, which
+ * lets a sweep's work-group scan the blocks it sweeps side by side); every thread of the work-group
+ * calls it with its value (Hillis-Steele in `sums`, the group's numLanes entries);
+ * sums[numLanes-1] then holds the group's total.
  */
-DEVICE int dpdExclusiveScanOfWorkGroup(int value, LOCAL_ARG int* sums) {
+DEVICE int dpdExclusiveScanOfLanes(int value, LOCAL_ARG int* sums, int lane, int numLanes) {
     SYNC_THREADS; // a previous scan's total may still be being read
-    sums[LOCAL_ID] = value;
+    sums[lane] = value;
     SYNC_THREADS;
-    for (int offset = 1; offset < LOCAL_SIZE; offset *= 2) {
-        int before = LOCAL_ID >= offset ? sums[LOCAL_ID-offset] : 0;
+    for (int offset = 1; offset < numLanes; offset *= 2) {
+        int before = lane >= offset ? sums[lane-offset] : 0;
         SYNC_THREADS;
-        sums[LOCAL_ID] += before;
+        sums[lane] += before;
         SYNC_THREADS;
     }
-    return sums[LOCAL_ID]-value;
+    return sums[lane]-value;
 }
 
 /** Each tile's number of particles (a grid of more than one tile). */
@@ -128,7 +131,7 @@ KERNEL void dpdSumCellTiles(int numCells, GLOBAL const int* RESTRICT cellCount, 
         int end = (tile+1)*DPD_SCAN_TILE < numCells ? (tile+1)*DPD_SCAN_TILE : numCells, sum = 0;
         for (int cell = tile*DPD_SCAN_TILE+LOCAL_ID; cell < end; cell += DPD_SCAN_SIZE)
             sum += cellCount[cell];
-        int before = dpdExclusiveScanOfWorkGroup(sum, sums);
+        int before = dpdExclusiveScanOfLanes(sum, sums, LOCAL_ID, LOCAL_SIZE);
         if (LOCAL_ID == DPD_SCAN_SIZE-1)
             tileSum[tile] = before+sum;
     }
@@ -151,7 +154,7 @@ KERNEL void dpdScanCellCounts(int numCells, int numTiles, int tilesInTurn, GLOBA
             int earlier = 0; // the particles of the tiles before this one
             for (int k = LOCAL_ID; k < tile; k += DPD_SCAN_SIZE)
                 earlier += tileSum[k];
-            dpdExclusiveScanOfWorkGroup(earlier, sums);
+            dpdExclusiveScanOfLanes(earlier, sums, LOCAL_ID, LOCAL_SIZE);
             tileStart = sums[DPD_SCAN_SIZE-1];
         }
         int first = tile*DPD_SCAN_TILE+LOCAL_ID*DPD_SCAN_CELLS_PER_THREAD;
@@ -160,7 +163,7 @@ KERNEL void dpdScanCellCounts(int numCells, int numTiles, int tilesInTurn, GLOBA
             counts[k] = first+k < numCells ? cellCount[first+k] : 0;
             total += counts[k];
         }
-        int start = tileStart+dpdExclusiveScanOfWorkGroup(total, sums);
+        int start = tileStart+dpdExclusiveScanOfLanes(total, sums, LOCAL_ID, LOCAL_SIZE);
         running = tileStart+sums[DPD_SCAN_SIZE-1];
         for (int k = 0; k < DPD_SCAN_CELLS_PER_THREAD && first+k < numCells; k++) {
             cellStart[first+k] = start;

@@ -8,6 +8,10 @@
 
 #define DPD_SWEEP_PAIRS (DPD_SWEEP_PAIRS_PER_LANE*DPD_SWEEP_LANES) // the buffer of pairs found and not yet applied
 #define DPD_SWEEP_NO_PAIR 0xffff
+// A sweep's work-group sweeps DPD_SWEEP_BLOCKS blocks side by side, DPD_SWEEP_LANES lanes each: a
+// thread's block among them (its slice of the work-group and of the local arrays) and its lane in it.
+#define DPD_SWEEP_SLICE (LOCAL_ID/DPD_SWEEP_LANES)
+#define DPD_SWEEP_LANE (LOCAL_ID%DPD_SWEEP_LANES)
 
 /**
  * For the pair this lane found at buffer position k (found: 1) in the chunk whose pairs fill positions
@@ -74,11 +78,14 @@ DEVICE void dpdLinkBufferedPairs(int found, int k, int chunkStart, int chunkEnd,
  * same updates with the same arithmetic as in the chain.  The rounds number the longest chain of
  * dependent pairs in the buffer, not its pairs.
  *
- * Lane l owns the pairs l, l + LOCAL_SIZE, ...: it takes their coefficients from the buffer and finds
+ * Lane l owns the pairs l, l + DPD_SWEEP_LANES, ...: it takes their coefficients from the buffer and finds
  * their geometry again from the positions (dpdPairGeometry: the search's bits) into registers, so the
  * buffer holds no geometry.  With gather, it adds its pairs' stress and Norton response (after all the
  * rounds, in the order of its pairs) to its own sums, which the block adds over the lanes in a fixed
- * order (dpdSumOverLanes).  Returns the number of rounds.  Every lane of the work-group calls it.
+ * order (dpdSumOverLanes).  Returns the number of rounds.  Every lane of the work-group calls it, each
+ * slice with its own block's buffer (numBuffered 0 for a slice with nothing to apply) and `pending` the
+ * three flags of every slice: the rounds go on while any slice has pairs left, and each slice counts
+ * its own.
  */
 DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITIONS, GLOBAL mixed4* RESTRICT velm,
                                          GLOBAL const int* RESTRICT atomIndex, LOCAL_ARG const mixed4* regionPosition,
@@ -93,7 +100,7 @@ DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITION
     DPDPairGeometry laneGeometry[DPD_SWEEP_PAIRS_PER_LANE];
     int left = 0, numRounds = 0; // left: a bit for each of this lane's pairs not yet applied
     for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE; n++) {
-        int k = LOCAL_ID+n*LOCAL_SIZE;
+        int k = DPD_SWEEP_LANE+n*DPD_SWEEP_LANES;
         if (k >= numBuffered)
             break;
         int i = pairI[k], j = pairJ[k];
@@ -108,8 +115,9 @@ DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITION
         pairRound[k] = 0;
         left |= 1<<n;
     }
-    if (LOCAL_ID == 0)
-        pending[1] = 0;
+    LOCAL_ARG int* ownPending = pending+3*DPD_SWEEP_SLICE;
+    if (DPD_SWEEP_LANE == 0)
+        ownPending[1] = 0;
     SYNC_THREADS;
     // Round t applies the pairs whose two predecessors were applied in rounds before t (pairRound: the
     // round a pair was applied in, 0 before), so one barrier a round suffices: a predecessor applied in
@@ -146,22 +154,25 @@ DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITION
                 velm[i] = vi;
                 velm[j] = vj;
             }
-            pairRound[LOCAL_ID+n*LOCAL_SIZE] = (unsigned short) round;
+            pairRound[DPD_SWEEP_LANE+n*DPD_SWEEP_LANES] = (unsigned short) round;
             left &= ~(1<<n);
         }
-        // Whether any lane has pairs left, in a flag of three: lane 0 clears the one of the round after
-        // this, which every lane read two barriers ago.
+        // Whether any lane of the slice has pairs left, in a flag of three: its lane 0 clears the one of
+        // the round after this, which every lane read two barriers ago.
         if (left)
-            pending[round%3] = 1;
-        if (LOCAL_ID == 0)
-            pending[(round+1)%3] = 0;
+            ownPending[round%3] = 1;
+        if (DPD_SWEEP_LANE == 0)
+            ownPending[(round+1)%3] = 0;
         SYNC_THREADS;
-        if (!pending[round%3]) {
+        if (numRounds == 0 && !ownPending[round%3])
             numRounds = round;
+        int anyPending = 0;
+        for (int slice = 0; slice < DPD_SWEEP_BLOCKS; slice++)
+            anyPending |= pending[3*slice+round%3];
+        if (!anyPending)
             break;
-        }
     }
-    for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE && LOCAL_ID+n*LOCAL_SIZE < numBuffered; n++) {
+    for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE && DPD_SWEEP_LANE+n*DPD_SWEEP_LANES < numBuffered; n++) {
         double r = laneGeometry[n].r, ex = laneGeometry[n].ex, ey = laneGeometry[n].ey, ez = laneGeometry[n].ez;
         if (withResponse) { // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
             int i = held ? regionOriginal[laneI[n]] : atomIndex[laneI[n]], j = held ? regionOriginal[laneJ[n]] : atomIndex[laneJ[n]];
@@ -176,13 +187,18 @@ DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITION
     return numRounds;
 }
 
-/** The sum over the work-group's lanes of each lane's value, in a fixed tree order (the same bits on every run), in every lane. */
+/**
+ * The sum over a slice's lanes of each lane's value, in a fixed tree order (the same bits on every run and
+ * whatever the slices beside it), in every lane; scratch: the slice's DPD_SWEEP_LANES entries.  Every lane
+ * of the work-group calls it.
+ */
 DEVICE double dpdSumOverLanes(double value, LOCAL_ARG double* scratch) {
-    scratch[LOCAL_ID] = value;
+    int lane = DPD_SWEEP_LANE;
+    scratch[lane] = value;
     SYNC_THREADS;
-    for (int stride = LOCAL_SIZE/2; stride > 0; stride /= 2) {
-        if (LOCAL_ID < stride)
-            scratch[LOCAL_ID] += scratch[LOCAL_ID+stride];
+    for (int stride = DPD_SWEEP_LANES/2; stride > 0; stride /= 2) {
+        if (lane < stride)
+            scratch[lane] += scratch[lane+stride];
         SYNC_THREADS;
     }
     double sum = scratch[0];

@@ -58,38 +58,50 @@ DEVICE int dpdLastAtOrBelow(LOCAL_ARG const int* first, int n, int value) {
 
 /**
  * values[1..n] replaced by their running sums and values[0] set to 0 (values[k] is then the sum of the
- * first k): each lane sums a run of consecutive entries, the lanes' sums are scanned
- * (dpdExclusiveScanOfWorkGroup), and each lane writes its run.  Every lane of the work-group calls it.
+ * first k): each lane of the slice sums a run of consecutive entries, the lanes' sums are scanned
+ * (dpdExclusiveScanOfLanes), and each lane writes its run.  Every lane of the work-group calls it, each
+ * slice with its own block's values and laneSums.
  */
 DEVICE void dpdInclusiveScanInPlace(LOCAL_ARG int* values, int n, LOCAL_ARG int* laneSums) {
     SYNC_THREADS; // the values written before the call
-    int run = (n+LOCAL_SIZE-1)/LOCAL_SIZE, first = 1+LOCAL_ID*run, end = first+run < n+1 ? first+run : n+1, sum = 0;
+    int lane = DPD_SWEEP_LANE;
+    int run = (n+DPD_SWEEP_LANES-1)/DPD_SWEEP_LANES, first = 1+lane*run, end = first+run < n+1 ? first+run : n+1, sum = 0;
     for (int k = first; k < end; k++)
         sum += values[k];
-    int before = dpdExclusiveScanOfWorkGroup(sum, laneSums);
+    int before = dpdExclusiveScanOfLanes(sum, laneSums, lane, DPD_SWEEP_LANES);
     for (int k = first; k < end; k++) {
         before += values[k];
         values[k] = before;
     }
-    if (first == 1) // lane 0
+    if (lane == 0)
         values[0] = 0;
     SYNC_THREADS;
 }
 
 /**
- * One colour of the exact successive sweep: a work-group per block.  The block's particles and the
- * partners they reach (its region) are read into local memory once (positions, System indices, types,
- * velocities); the lanes then examine the candidates DPD_SWEEP_LANES at a time, in the sweep's order
- * flattened over the whole block, buffer the pairs they find, and apply the buffer in rounds whenever
- * it could not take another chunk's pairs, on the velocities in local memory; the touched velocities
- * go back at the block's end.  A region of more than DPD_SWEEP_CAPACITY particles (a dense cluster)
- * is swept the same way with every particle read from and written to global memory: the same pairs,
- * numbers and updates, in the same order (tested), only slower.
+ * One colour of the exact successive sweep: a slice of DPD_SWEEP_LANES lanes of a work-group per block,
+ * DPD_SWEEP_BLOCKS blocks a work-group side by side (OpenMM caps a launch's work-groups, so this is
+ * what puts more blocks in flight), each slice with its own part of the local arrays.  The block's
+ * particles and the partners they reach (its region) are read into local memory once (positions,
+ * System indices, types, velocities); the lanes then examine the candidates DPD_SWEEP_LANES at a time,
+ * in the sweep's order flattened over the whole block, buffer the pairs they find, and apply the buffer
+ * in rounds whenever it could not take another chunk's pairs, on the velocities in local memory; the
+ * touched velocities go back at the block's end.  A region of more than DPD_SWEEP_CAPACITY particles
+ * (a dense cluster) is swept the same way with every particle read from and written to global memory:
+ * the same pairs, numbers and updates, in the same order (tested), only slower.
+ *
+ * The slices run in lockstep, the barriers being the work-group's: every loop runs as often as the
+ * slice that needs it most asks (the candidates of the block with the most, the rounds of the slice
+ * with the deepest buffer), a slice with nothing to do passing through.  Each slice's buffer fills and
+ * is applied at the points it would be alone, and its lanes own the same pairs, so each block's bits,
+ * its sums included, are those of one block a work-group (tested).
  *
  * The candidates of a block: for each of its cells (z, y, x), each particle i of the cell (in order),
  * the later particles of i's cell, then those of the 13 half-stencil cells in order; a cell of n
  * particles whose half stencil holds H has n(n-1)/2 + nH of them, particle t of it n-1-t+H.
  */
+#define DPD_SWEEP_SLICE_ARRAY(type, name, size) LOCAL type name##OfSlices[DPD_SWEEP_BLOCKS*(size)]; \
+    LOCAL_ARG type* name = name##OfSlices+DPD_SWEEP_SLICE*(size)
 KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocksInColour, DPD_POSITIONS, double4 boxSize,
                            double4 inverseBoxSize, GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT cellStart,
                            GLOBAL const int* RESTRICT cellAtoms, GLOBAL const int* RESTRICT atomIndex,
@@ -99,24 +111,36 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                            double adaptiveNoise, int reversed, int gatherStress, GLOBAL double* RESTRICT blockStress, double shearRate, int withResponse,
                            GLOBAL const double* RESTRICT responseField, GLOBAL double* RESTRICT blockResponse, int firstResponseRow,
                            int recordRounds, GLOBAL int* RESTRICT blockRounds, int firstRoundsRow) {
-    LOCAL int regionFirst[DPD_SWEEP_MAX_REGION_CELLS+1], regionGridStart[DPD_SWEEP_MAX_REGION_CELLS];
-    LOCAL int cellFirstCandidate[DPD_SWEEP_MAX_BLOCK_CELLS+1], cellStencilCount[DPD_SWEEP_MAX_BLOCK_CELLS];
+    DPD_SWEEP_SLICE_ARRAY(int, regionFirst, DPD_SWEEP_MAX_REGION_CELLS+1);
+    DPD_SWEEP_SLICE_ARRAY(int, regionGridStart, DPD_SWEEP_MAX_REGION_CELLS);
+    DPD_SWEEP_SLICE_ARRAY(int, cellFirstCandidate, DPD_SWEEP_MAX_BLOCK_CELLS+1);
+    DPD_SWEEP_SLICE_ARRAY(int, cellStencilCount, DPD_SWEEP_MAX_BLOCK_CELLS);
     // Each block cell's region cell and those of its 13 half-stencil cells, found once a block for the decoding of every candidate.
-    LOCAL unsigned char cellRegion[DPD_SWEEP_MAX_BLOCK_CELLS], stencilRegion[13*DPD_SWEEP_MAX_BLOCK_CELLS];
-    LOCAL int laneSums[DPD_SWEEP_LANES];
-    LOCAL double laneTotals[DPD_SWEEP_LANES];
-    LOCAL int regionAtom[DPD_SWEEP_HELD_SIZE], regionOriginal[DPD_SWEEP_HELD_SIZE], regionType[DPD_SWEEP_HELD_SIZE];
-    LOCAL int regionLatestPair[DPD_SWEEP_HELD_SIZE]; // the latest pair (numbered over the block) that touched the slot, or -1
-    LOCAL mixed4 regionPosition[DPD_SWEEP_HELD_SIZE], regionVelocity[DPD_SWEEP_HELD_SIZE];
+    DPD_SWEEP_SLICE_ARRAY(unsigned char, cellRegion, DPD_SWEEP_MAX_BLOCK_CELLS);
+    DPD_SWEEP_SLICE_ARRAY(unsigned char, stencilRegion, 13*DPD_SWEEP_MAX_BLOCK_CELLS);
+    DPD_SWEEP_SLICE_ARRAY(int, laneSums, DPD_SWEEP_LANES);
+    DPD_SWEEP_SLICE_ARRAY(double, laneTotals, DPD_SWEEP_LANES);
+    DPD_SWEEP_SLICE_ARRAY(int, regionAtom, DPD_SWEEP_HELD_SIZE);
+    DPD_SWEEP_SLICE_ARRAY(int, regionOriginal, DPD_SWEEP_HELD_SIZE);
+    DPD_SWEEP_SLICE_ARRAY(int, regionType, DPD_SWEEP_HELD_SIZE);
+    DPD_SWEEP_SLICE_ARRAY(int, regionLatestPair, DPD_SWEEP_HELD_SIZE); // the latest pair (numbered over the block) that touched the slot, or -1
+    DPD_SWEEP_SLICE_ARRAY(mixed4, regionPosition, DPD_SWEEP_HELD_SIZE);
+    DPD_SWEEP_SLICE_ARRAY(mixed4, regionVelocity, DPD_SWEEP_HELD_SIZE);
     // The buffer of pairs found and not yet applied, in the sweep's order: region slots (atoms when not held locally) and coefficients.
-    LOCAL int pairI[DPD_SWEEP_PAIRS], pairJ[DPD_SWEEP_PAIRS];
-    LOCAL double pairSlope[DPD_SWEEP_PAIRS], pairOffset[DPD_SWEEP_PAIRS];
-    LOCAL unsigned short pairAfterI[DPD_SWEEP_PAIRS], pairAfterJ[DPD_SWEEP_PAIRS];
-    LOCAL unsigned short pairRound[DPD_SWEEP_PAIRS];
-    LOCAL int pendingRounds[3];
+    DPD_SWEEP_SLICE_ARRAY(int, pairI, DPD_SWEEP_PAIRS);
+    DPD_SWEEP_SLICE_ARRAY(int, pairJ, DPD_SWEEP_PAIRS);
+    DPD_SWEEP_SLICE_ARRAY(double, pairSlope, DPD_SWEEP_PAIRS);
+    DPD_SWEEP_SLICE_ARRAY(double, pairOffset, DPD_SWEEP_PAIRS);
+    DPD_SWEEP_SLICE_ARRAY(unsigned short, pairAfterI, DPD_SWEEP_PAIRS);
+    DPD_SWEEP_SLICE_ARRAY(unsigned short, pairAfterJ, DPD_SWEEP_PAIRS);
+    DPD_SWEEP_SLICE_ARRAY(unsigned short, pairRound, DPD_SWEEP_PAIRS);
+    LOCAL int pendingRounds[3*DPD_SWEEP_BLOCKS]; // three flags a slice (dpdApplyBufferedPairsInRounds)
+    LOCAL int sliceCandidates[DPD_SWEEP_BLOCKS], sliceApplies[DPD_SWEEP_BLOCKS]; // what the lockstep reads of every slice
+    int lane = DPD_SWEEP_LANE;
     double maxCutoff2 = maxCutoff*maxCutoff;
     int halfX = numBlocks.x == 1 ? 1 : numBlocks.x/2, halfY = numBlocks.y == 1 ? 1 : numBlocks.y/2;
-    for (int b = GROUP_ID; b < blocksInColour; b += NUM_GROUPS) {
+    for (int first = GROUP_ID*DPD_SWEEP_BLOCKS; first < blocksInColour; first += NUM_GROUPS*DPD_SWEEP_BLOCKS) {
+        int b = first+DPD_SWEEP_SLICE, active = b < blocksInColour; // a slice past the colour's last block sweeps nothing
         int bx = b%halfX, by = (b/halfX)%halfY, bz = b/(halfX*halfY);
         bx = numBlocks.x == 1 ? 0 : 2*bx+(colour&1);
         by = numBlocks.y == 1 ? 0 : 2*by+((colour>>1)&1);
@@ -124,13 +148,13 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
         int x0 = bx*numCells.x/numBlocks.x, x1 = (bx+1)*numCells.x/numBlocks.x;
         int y0 = by*numCells.y/numBlocks.y, y1 = (by+1)*numCells.y/numBlocks.y;
         int z0 = bz*numCells.z/numBlocks.z, z1 = (bz+1)*numCells.z/numBlocks.z;
-        int sizeX = x1-x0, sizeY = y1-y0, numBlockCells = sizeX*sizeY*(z1-z0);
+        int sizeX = x1-x0, sizeY = y1-y0, numBlockCells = active ? sizeX*sizeY*(z1-z0) : 0;
         int4 origin = make_int4((x0-1+numCells.x)%numCells.x, (y0-1+numCells.y)%numCells.y, z0, 0);
         int4 regionSize = make_int4(min(sizeX+2, numCells.x), min(sizeY+2, numCells.y), min(z1-z0+1, numCells.z), 0);
-        int numRegionCells = regionSize.x*regionSize.y*regionSize.z;
+        int numRegionCells = active ? regionSize.x*regionSize.y*regionSize.z : 0;
 
         // The region's cells and their counts, then their first slots.
-        for (int rc = LOCAL_ID; rc < numRegionCells; rc += LOCAL_SIZE) {
+        for (int rc = lane; rc < numRegionCells; rc += DPD_SWEEP_LANES) {
             int gx = (origin.x+rc%regionSize.x)%numCells.x, gy = (origin.y+(rc/regionSize.x)%regionSize.y)%numCells.y;
             int gz = (origin.z+rc/(regionSize.x*regionSize.y))%numCells.z;
             int cell = gx+numCells.x*(gy+numCells.y*gz);
@@ -139,7 +163,7 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
         }
         dpdInclusiveScanInPlace(regionFirst, numRegionCells, laneSums);
         // Each block cell's candidates, then where they start in the block's order.
-        for (int m = LOCAL_ID; m < numBlockCells; m += LOCAL_SIZE) {
+        for (int m = lane; m < numBlockCells; m += DPD_SWEEP_LANES) {
             int cx = x0+m%sizeX, cy = y0+(m/sizeX)%sizeY, cz = z0+m/(sizeX*sizeY);
             int rc = dpdRegionCell(cx, cy, cz, origin, regionSize, numCells);
             int n = regionFirst[rc+1]-regionFirst[rc], stencil = 0;
@@ -156,8 +180,10 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
         dpdInclusiveScanInPlace(cellFirstCandidate, numBlockCells, laneSums);
         int numRegionAtoms = regionFirst[numRegionCells], numCandidates = cellFirstCandidate[numBlockCells];
         int held = numRegionAtoms <= DPD_SWEEP_CAPACITY; // the region in local memory
+        if (lane == 0)
+            sliceCandidates[DPD_SWEEP_SLICE] = numCandidates;
         if (held)
-            for (int r = LOCAL_ID; r < numRegionAtoms; r += LOCAL_SIZE) {
+            for (int r = lane; r < numRegionAtoms; r += DPD_SWEEP_LANES) {
                 int rc = dpdLastAtOrBelow(regionFirst, numRegionCells, r);
                 int atom = cellAtoms[regionGridStart[rc]+r-regionFirst[rc]];
                 int original = atomIndex[atom];
@@ -169,12 +195,15 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                 regionLatestPair[r] = -1;
             }
         SYNC_THREADS;
+        int mostCandidates = 0; // the lockstep's number of candidates: the most of any slice's block
+        for (int slice = 0; slice < DPD_SWEEP_BLOCKS; slice++)
+            mostCandidates = max(mostCandidates, sliceCandidates[slice]);
         double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; // this lane's pairs' sums
         double response = 0.0;
-        int numBuffered = 0, numRounds = 0, numPairs = 0; // the same in every lane
-        for (int chunk = 0; chunk < numCandidates; chunk += DPD_SWEEP_LANES) {
+        int numBuffered = 0, numRounds = 0, numPairs = 0; // the same in every lane of the slice
+        for (int chunk = 0; chunk < mostCandidates; chunk += DPD_SWEEP_LANES) {
             // Each lane examines one candidate; the pairs found are appended to the buffer in the sweep's order.
-            int c = chunk+LOCAL_ID, found = 0, atomI = 0, atomJ = 0;
+            int c = chunk+lane, found = 0, atomI = 0, atomJ = 0;
             DPDDissipativePair pair;
             DPDPairUpdate update;
             if (c < numCandidates) {
@@ -242,50 +271,58 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
                         update = bbkUpdate(pair.gamma, pair.w, pair.invReducedMass, kT, dt, dpdNormal(R));
                 }
             }
-            int chunkStart = numBuffered, position = chunkStart+dpdExclusiveScanOfWorkGroup(found, laneSums);
-            numBuffered += laneSums[LOCAL_SIZE-1]; // the pairs this chunk found
+            int chunkStart = numBuffered, position = chunkStart+dpdExclusiveScanOfLanes(found, laneSums, lane, DPD_SWEEP_LANES);
+            numBuffered += laneSums[DPD_SWEEP_LANES-1]; // the pairs this chunk found
             if (found) {
                 pairI[position] = atomI;
                 pairJ[position] = atomJ;
                 pairSlope[position] = update.slope;
                 pairOffset[position] = update.offset;
             }
+            // The buffer is applied when it could not take another chunk's pairs, or at the block's last chunk.
+            int applies = numBuffered > 0 && (numBuffered > DPD_SWEEP_PAIRS-DPD_SWEEP_LANES || chunk+DPD_SWEEP_LANES >= numCandidates);
+            if (lane == 0)
+                sliceApplies[DPD_SWEEP_SLICE] = applies; // read after the barriers of dpdLinkBufferedPairs
             dpdLinkBufferedPairs(found, position, chunkStart, numBuffered, numPairs, held, pairI, pairJ,
                                  pairAfterI, pairAfterJ, regionLatestPair);
-            if (numBuffered == 0 || (numBuffered <= DPD_SWEEP_PAIRS-DPD_SWEEP_LANES && chunk+DPD_SWEEP_LANES < numCandidates))
-                continue; // room for another chunk's pairs (or nothing to apply)
-            numRounds += dpdApplyBufferedPairsInRounds(numBuffered, held, DPD_POSITION_ARGUMENTS, velm, atomIndex, regionPosition,
+            int anyApplies = 0;
+            for (int slice = 0; slice < DPD_SWEEP_BLOCKS; slice++)
+                anyApplies |= sliceApplies[slice];
+            if (!anyApplies)
+                continue; // room for another chunk's pairs in every slice (or nothing to apply)
+            int rounds = dpdApplyBufferedPairsInRounds(applies ? numBuffered : 0, held, DPD_POSITION_ARGUMENTS, velm, atomIndex, regionPosition,
                                                        regionVelocity, regionOriginal, boxSize, inverseBoxSize,
                                                        maxCutoff2, shearRate, gatherStress, withResponse, responseField, pairI, pairJ,
                                                        pairSlope, pairOffset, pairAfterI, pairAfterJ, pairRound, pendingRounds,
                                                        stress, &response);
-            numPairs += numBuffered;
-            numBuffered = 0;
+            if (applies) {
+                numRounds += rounds;
+                numPairs += numBuffered;
+                numBuffered = 0;
+            }
             SYNC_THREADS; // the buffer read before the next chunk refills it
         }
         if (held)
-            for (int r = LOCAL_ID; r < numRegionAtoms; r += LOCAL_SIZE)
+            for (int r = lane; r < numRegionAtoms; r += DPD_SWEEP_LANES)
                 if (regionLatestPair[r] >= 0) // touched
                     velm[regionAtom[r]] = regionVelocity[r];
         if (gatherStress) // this block's row of the sweep's pair stress (dpdStress.cc sums the rows in order)
             for (int k = 0; k < 12; k++) {
                 double sum = dpdSumOverLanes(stress[k], laneTotals);
-                if (LOCAL_ID == 0)
+                if (lane == 0 && active)
                     blockStress[12*b+k] = sum;
             }
         if (withResponse) {
             double sum = dpdSumOverLanes(response, laneTotals);
-            if (LOCAL_ID == 0)
+            if (lane == 0 && active)
                 blockResponse[firstResponseRow+b] = sum;
         }
-        if (LOCAL_ID == 0) {
-            if (recordRounds) { // for the cost model (CommonDPDSweepProfile): this block's rounds, pairs and candidates
-                blockRounds[3*(firstRoundsRow+b)] = numRounds;
-                blockRounds[3*(firstRoundsRow+b)+1] = numPairs;
-                blockRounds[3*(firstRoundsRow+b)+2] = numCandidates;
-            }
+        if (lane == 0 && active && recordRounds) { // for the cost model (CommonDPDSweepProfile): this block's rounds, pairs and candidates
+            blockRounds[3*(firstRoundsRow+b)] = numRounds;
+            blockRounds[3*(firstRoundsRow+b)+1] = numPairs;
+            blockRounds[3*(firstRoundsRow+b)+2] = numCandidates;
         }
-        SYNC_THREADS; // the next block reuses the local arrays
+        SYNC_THREADS; // the next blocks reuse the local arrays
     }
 }
 
