@@ -57,11 +57,14 @@ class TargetGpu:
     clock_hertz: float
     concurrent_work_groups: int  # OpenMM's numThreadBlocks: the work-groups of one launch
     source: str
+    # With several blocks a work-group (OPENMMDPD_GPU_SWEEP_BLOCKS > 1) each work-group takes 48 KiB of
+    # local memory: the work-groups a multiprocessor holds at once (228 KiB / (48 + 1) KiB on an H100/H200).
+    side_by_side_work_groups: int = 0
 
 
 H200 = TargetGpu("NVIDIA H200 SXM", 4.3e12, 3e-6, 1.98e9, 6 * 132,
                  "4.8 TB/s HBM3e (datasheet), 4.3 TB/s achievable (../shared/GPU.md); 132 SMs x OpenMM's 6 "
-                 "work-groups each = 792; 1.98 GHz boost; 3 us a dependent launch (CUDA's typical 2-5 us)")
+                 "work-groups each = 792; 1.98 GHz boost; 3 us a dependent launch (CUDA's typical 2-5 us)", 4 * 132)
 
 # Cycles of the sweep's pieces on the target (estimates, see the module's docstring).
 CYCLES_PER_ROUND = 250
@@ -126,8 +129,12 @@ class SweepCost:
 
 
 def sweep_cost(sweep: dict, gpu: TargetGpu, blocks_at_once: int = 1) -> SweepCost:
-    """What one sweep costs on `gpu`, with `blocks_at_once` blocks a work-group side by side (1 now; more is a what-if)."""
-    groups = gpu.concurrent_work_groups * blocks_at_once
+    """What one sweep costs on `gpu` with `blocks_at_once` blocks a work-group side by side, as
+    OPENMMDPD_GPU_SWEEP_BLOCKS sweeps them: work-group g takes blocks g S .. g S + S - 1 of a colour, then
+    those a launch's work-groups further on; its slices run in lockstep, so each turn costs its slowest
+    block.  With S > 1 the work-groups in flight are those the multiprocessors hold at 48 KiB each."""
+    groups = gpu.concurrent_work_groups if blocks_at_once == 1 else \
+        min(gpu.concurrent_work_groups, gpu.side_by_side_work_groups or gpu.concurrent_work_groups)
     critical_rounds, critical_chain, critical_cycles, turns = 0, 0, 0.0, 0
     all_rounds, all_pairs = [], []
     for colour in sweep["colours"]:
@@ -137,8 +144,11 @@ def sweep_cost(sweep: dict, gpu: TargetGpu, blocks_at_once: int = 1) -> SweepCos
         group_rounds: Dict[int, int] = {}
         group_pairs: Dict[int, int] = {}
         group_cycles: Dict[int, float] = {}
-        for b, (r, p, c) in enumerate(zip(rounds, pairs, candidates)):
-            g = b % groups
+        for first in range(0, len(rounds), blocks_at_once):
+            g = (first // blocks_at_once) % groups
+            r = max(rounds[first:first + blocks_at_once])
+            p = max(pairs[first:first + blocks_at_once])
+            c = max(candidates[first:first + blocks_at_once])
             group_rounds[g] = group_rounds.get(g, 0) + r
             group_pairs[g] = group_pairs.get(g, 0) + p
             group_cycles[g] = group_cycles.get(g, 0.0) + CYCLES_PER_BLOCK + -(-c // 64) * CYCLES_PER_CANDIDATE_CHUNK + \
@@ -146,7 +156,7 @@ def sweep_cost(sweep: dict, gpu: TargetGpu, blocks_at_once: int = 1) -> SweepCos
         critical_rounds += max(group_rounds.values())
         critical_chain += max(group_pairs.values())
         critical_cycles += max(group_cycles.values())
-        turns = max(turns, -(-len(rounds) // groups))
+        turns = max(turns, -(-len(rounds) // (groups * blocks_at_once)))
     cells, blocks = sweep["cells"], sweep["blocks"]
     width = [c / b for c, b in zip(cells, blocks)]
     region = (min(width[0] + 2, cells[0]) * min(width[1] + 2, cells[1]) * min(width[2] + 1, cells[2])) / \
@@ -163,7 +173,7 @@ class StepModel:
     sweep: SweepCost
     sweeps_per_step: int
     seconds: float
-    critical_rounds_at_once: Dict[int, int]  # what-if: the critical path with 2 and 4 blocks a work-group at once
+    critical_rounds_at_once: Dict[int, int]  # the critical path with 2 and 4 blocks a work-group (OPENMMDPD_GPU_SWEEP_BLOCKS)
 
 
 def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu) -> StepModel:
@@ -187,7 +197,7 @@ def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optio
              f"{CYCLES_PER_BLOCK} a block.  Bench scene: rho = 3, gamma = 4.5, dt = 0.04, mixed precision.", "",
              "| N | launches/step | bytes/particle-step (model) | sweep: blocks a work-group sweeps in turn | rounds/block "
              "| pairs/block | critical path, dependent updates a step: rounds (lane 0's chain before them) "
-             "| what-if: 2, 4 blocks a work-group at once | expected time/step | expected particle-steps/s "
+             "| with 2, 4 blocks a work-group side by side (OPENMMDPD_GPU_SWEEP_BLOCKS; 4 holds 12 particles a region locally, so every region takes the global path) | expected time/step | expected particle-steps/s "
              "| measured time/step |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for m in models:

@@ -37,6 +37,19 @@ def test_critical_path_is_the_slowest_work_group_summed_over_the_colours():
     assert two.pairs == 4 * 39
 
 
+def test_blocks_side_by_side_cost_their_slowest_block_a_turn():
+    sweep = synthetic_sweep([[3, 1, 4, 1, 5], [9, 2, 6, 5, 3]])
+    # Two blocks a work-group, one work-group: turns (3, 1), (4, 1), (5) cost 3 + 4 + 5; colour 1: 9 + 6 + 3.
+    gpu = model.TargetGpu("test GPU", 1e12, 1e-6, 1e9, 2, "made up", side_by_side_work_groups=1)
+    one_group = model.sweep_cost(sweep, gpu, 2)
+    assert one_group.critical_rounds == 12 + 18
+    assert one_group.blocks_in_turn == 3
+    # Two work-groups of two blocks: group 0 takes (3, 1) and (5), group 1 (4, 1); colour 1: (9, 2), (3) against (6, 5).
+    two_groups = model.sweep_cost(sweep, gpu_with(2), 2)
+    assert two_groups.critical_rounds == 8 + 12
+    assert two_groups.blocks_in_turn == 2
+
+
 @pytest.mark.gpu
 def test_the_profile_of_a_real_sweep_has_far_fewer_rounds_than_pairs():
     names = [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
