@@ -11,10 +11,14 @@ What is counted, and what is assumed:
   same launches).
 - **The critical path** is measured: with OPENMMDPD_GPU_SWEEP_PROFILE the sweep records, block by block,
   its rounds of disjoint pairs (the chain of dependent pair updates the rounds leave,
-  dpdApplyBufferedPairsInRounds), its pairs and its candidates, at the run's own positions.  A colour's
-  critical path is the largest, over the work-groups, of the rounds of the blocks it sweeps in turn:
-  OpenMM caps a launch at its numThreadBlocks work-groups (6 a multiprocessor on CUDA), so on an H200
-  block b of a colour goes to work-group b mod 792.  Summed over the colours and the sweeps of a step.
+  dpdApplyBufferedPairsInRounds), its pairs and its candidates, at the run's own positions.  The sweep
+  runs all its colours in one launch (dpdSweepSchedule.cc): the work-groups take the blocks by ticket,
+  colour after colour, and a block starts when its work-group is free and its neighbours of earlier
+  colours are swept.  The critical path is that schedule's makespan, in rounds, simulated block by
+  block (one_launch_schedule) with OpenMM's numThreadBlocks work-groups (6 a multiprocessor on CUDA,
+  792 on an H200).  Beside it, a launch a colour (OPENMMDPD_GPU_SWEEP_LAUNCHES=colours): per colour
+  the largest, over the work-groups, of the rounds of the blocks it sweeps in turn (block b of a colour
+  to work-group b mod 792), summed over the colours.  Both summed over the sweeps of a step.
 - **Bytes** are a model: what each kernel must move per particle (or per cell) in mixed precision, each
   array read or written once (KERNEL_BYTES says which arrays); the sweep reads every particle of each
   block's region and writes the velocities back, so its bytes scale with the region's size.  Caches can
@@ -37,9 +41,11 @@ import os
 import statistics
 import subprocess
 import sys
+import heapq
+import itertools
 import tempfile
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence
+from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, os.pardir, "tools", "opencl-probe"))
@@ -90,6 +96,7 @@ KERNEL_BYTES: Dict[str, float] = {
 # the cell slot), and a velocity written back per particle touched.
 SWEEP_BYTES_PER_REGION_PARTICLE = 32 + 32 + 4 + 4 + 4
 SWEEP_BYTES_PER_WRITE = 32
+SWEEP_KERNEL = "dpdSweepColours"
 
 
 def profile_child(n: int, steps: int, platform_name: str) -> None:
@@ -116,11 +123,56 @@ def launches_per_step(counter: str, n: int, steps: int = 4) -> Dict[str, float]:
     return {name: value for name, value in per_step.items() if value > 0}
 
 
+def block_coordinates(sweep: dict, colour: int, b: int) -> Tuple[int, int, int]:
+    """Block b of a colour in the block grid, as dpdSweepColours places it."""
+    blocks = sweep["blocks"]
+    half = [1 if n == 1 else n // 2 for n in blocks]
+    index = (b % half[0], (b // half[0]) % half[1], b // (half[0] * half[1]))
+    return tuple(0 if blocks[k] == 1 else 2 * index[k] + ((colour >> k) & 1) for k in range(3))  # type: ignore[return-value]
+
+
+def one_launch_schedule(sweep: dict, groups: int, blocks_at_once: int, duration: Callable[[dict, int], float]) -> float:
+    """The makespan of a sweep's single launch (dpdSweepSchedule.cc): items of `blocks_at_once` blocks of
+    a colour, colour after colour in the sweep's turn order, taken by the first free of `groups`
+    work-groups; an item starts when its work-group is free and every neighbour of an earlier colour of
+    its blocks has finished, and lasts as long as its slowest block (`duration(colour entry, b)`)."""
+    blocks = sweep["blocks"]
+    entries = sorted(sweep["colours"], key=lambda c: c["colour"], reverse=bool(sweep.get("reversed", False)))
+    finished: Dict[Tuple[int, int, int], float] = {}
+    free = [0.0] * groups  # a heap of the times the work-groups become free
+    makespan = 0.0
+    for entry in entries:
+        colour, count = entry["colour"], len(entry["rounds"])
+        swept_now: Dict[Tuple[int, int, int], float] = {}
+        for first in range(0, count, blocks_at_once):
+            start = heapq.heappop(free)
+            members = range(first, min(first + blocks_at_once, count))
+            for b in members:
+                x, y, z = block_coordinates(sweep, colour, b)
+                for dx, dy, dz in itertools.product((-1, 0, 1), repeat=3):
+                    if (dx, dy, dz) == (0, 0, 0) or any(o != 0 and n == 1 for o, n in zip((dx, dy, dz), blocks)):
+                        continue
+                    neighbour = ((x + dx) % blocks[0], (y + dy) % blocks[1], (z + dz) % blocks[2])
+                    start = max(start, finished.get(neighbour, 0.0))  # earlier colours only: none of this one is a neighbour
+            end = start + max(duration(entry, b) for b in members)
+            for b in members:
+                swept_now[block_coordinates(sweep, colour, b)] = end
+            heapq.heappush(free, end)
+            makespan = max(makespan, end)
+        finished.update(swept_now)
+    return makespan
+
+
+def block_cycles(entry: dict, b: int) -> float:
+    return CYCLES_PER_BLOCK + -(-entry["candidates"][b] // 64) * CYCLES_PER_CANDIDATE_CHUNK + entry["rounds"][b] * CYCLES_PER_ROUND
+
+
 @dataclass
 class SweepCost:
-    critical_rounds: int  # the dependent updates of the critical path, a sweep
+    critical_rounds: int  # the dependent updates of the critical path, a sweep, all its colours in one launch
     critical_chain: int  # the same with one pair a round (the sweep before the rounds: lane 0's chain)
     critical_seconds: float
+    colour_by_colour_rounds: int  # the critical path with a launch a colour (OPENMMDPD_GPU_SWEEP_LAUNCHES=colours)
     blocks_in_turn: int  # the most blocks one work-group sweeps one after another, a colour
     rounds_per_block: float
     pairs_per_block: float
@@ -130,39 +182,33 @@ class SweepCost:
 
 def sweep_cost(sweep: dict, gpu: TargetGpu, blocks_at_once: int = 1) -> SweepCost:
     """What one sweep costs on `gpu` with `blocks_at_once` blocks a work-group side by side, as
-    OPENMMDPD_GPU_SWEEP_BLOCKS sweeps them: work-group g takes blocks g S .. g S + S - 1 of a colour, then
-    those a launch's work-groups further on; its slices run in lockstep, so each turn costs its slowest
-    block.  With S > 1 the work-groups in flight are those the multiprocessors hold at 48 KiB each."""
+    OPENMMDPD_GPU_SWEEP_BLOCKS sweeps them: in one launch, the schedule of one_launch_schedule; a launch a
+    colour, work-group g takes blocks g S .. g S + S - 1 of a colour, then those a launch's work-groups
+    further on.  A work-group's slices run in lockstep, so each item costs its slowest block.  With S > 1
+    the work-groups in flight are those the multiprocessors hold at 48 KiB each."""
     groups = gpu.concurrent_work_groups if blocks_at_once == 1 else \
         min(gpu.concurrent_work_groups, gpu.side_by_side_work_groups or gpu.concurrent_work_groups)
-    critical_rounds, critical_chain, critical_cycles, turns = 0, 0, 0.0, 0
+    colour_by_colour, turns = 0, 0
     all_rounds, all_pairs = [], []
     for colour in sweep["colours"]:
-        rounds, pairs, candidates = colour["rounds"], colour["pairs"], colour["candidates"]
+        rounds = colour["rounds"]
         all_rounds += rounds
-        all_pairs += pairs
+        all_pairs += colour["pairs"]
         group_rounds: Dict[int, int] = {}
-        group_pairs: Dict[int, int] = {}
-        group_cycles: Dict[int, float] = {}
         for first in range(0, len(rounds), blocks_at_once):
             g = (first // blocks_at_once) % groups
-            r = max(rounds[first:first + blocks_at_once])
-            p = max(pairs[first:first + blocks_at_once])
-            c = max(candidates[first:first + blocks_at_once])
-            group_rounds[g] = group_rounds.get(g, 0) + r
-            group_pairs[g] = group_pairs.get(g, 0) + p
-            group_cycles[g] = group_cycles.get(g, 0.0) + CYCLES_PER_BLOCK + -(-c // 64) * CYCLES_PER_CANDIDATE_CHUNK + \
-                r * CYCLES_PER_ROUND
-        critical_rounds += max(group_rounds.values())
-        critical_chain += max(group_pairs.values())
-        critical_cycles += max(group_cycles.values())
+            group_rounds[g] = group_rounds.get(g, 0) + max(rounds[first:first + blocks_at_once])
+        colour_by_colour += max(group_rounds.values())
         turns = max(turns, -(-len(rounds) // (groups * blocks_at_once)))
     cells, blocks = sweep["cells"], sweep["blocks"]
     width = [c / b for c, b in zip(cells, blocks)]
     region = (min(width[0] + 2, cells[0]) * min(width[1] + 2, cells[1]) * min(width[2] + 1, cells[2])) / \
         (width[0] * width[1] * width[2])
-    return SweepCost(critical_rounds, critical_chain, critical_cycles / gpu.clock_hertz, turns, statistics.mean(all_rounds),
-                     statistics.mean(all_pairs), region, sum(all_pairs))
+    one_launch_rounds = one_launch_schedule(sweep, groups, blocks_at_once, lambda entry, b: entry["rounds"][b])
+    one_launch_chain = one_launch_schedule(sweep, groups, blocks_at_once, lambda entry, b: entry["pairs"][b])
+    one_launch_cycles = one_launch_schedule(sweep, groups, blocks_at_once, block_cycles)
+    return SweepCost(int(one_launch_rounds), int(one_launch_chain), one_launch_cycles / gpu.clock_hertz, colour_by_colour, turns,
+                     statistics.mean(all_rounds), statistics.mean(all_pairs), region, sum(all_pairs))
 
 
 @dataclass
@@ -179,13 +225,13 @@ class StepModel:
 def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu) -> StepModel:
     sweep = sweep_cost(sweeps[-1], gpu)
     per_step = len(sweeps) // 2  # two steps were profiled
-    bytes_per_particle = {name: KERNEL_BYTES.get(name, 0.0) * count for name, count in launches.items() if name != "dpdSweepColour"}
-    bytes_per_particle["dpdSweepColour"] = per_step * sweep.region_particles * (SWEEP_BYTES_PER_REGION_PARTICLE + SWEEP_BYTES_PER_WRITE)
+    bytes_per_particle = {name: KERNEL_BYTES.get(name, 0.0) * count for name, count in launches.items() if name != SWEEP_KERNEL}
+    bytes_per_particle[SWEEP_KERNEL] = per_step * sweep.region_particles * (SWEEP_BYTES_PER_REGION_PARTICLE + SWEEP_BYTES_PER_WRITE)
     seconds = sum(launches.values()) * gpu.launch_seconds
     for name in launches:
         memory = bytes_per_particle[name] * n / gpu.bandwidth_bytes_per_second
         # The sweep takes the longer of its bytes and its critical path (its latency), each of its sweeps a step.
-        seconds += max(memory, per_step * sweep.critical_seconds) if name == "dpdSweepColour" else memory
+        seconds += max(memory, per_step * sweep.critical_seconds) if name == SWEEP_KERNEL else memory
     at_once = {s: per_step * sweep_cost(sweeps[-1], gpu, s).critical_rounds for s in (2, 4)}
     return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once)
 
@@ -196,16 +242,17 @@ def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optio
              f"(estimates): {CYCLES_PER_ROUND} a round, {CYCLES_PER_CANDIDATE_CHUNK} a chunk of 64 candidates, "
              f"{CYCLES_PER_BLOCK} a block.  Bench scene: rho = 3, gamma = 4.5, dt = 0.04, mixed precision.", "",
              "| N | launches/step | bytes/particle-step (model) | sweep: blocks a work-group sweeps in turn | rounds/block "
-             "| pairs/block | critical path, dependent updates a step: rounds (lane 0's chain before them) "
-             "| with 2, 4 blocks a work-group side by side (OPENMMDPD_GPU_SWEEP_BLOCKS; 4 holds 12 particles a region locally, so every region takes the global path) | expected time/step | expected particle-steps/s "
+             "| pairs/block | critical path, dependent updates a step, all colours in one launch: rounds (lane 0's chain before them) "
+             "| a launch a colour | with 2, 4 blocks a work-group side by side, one launch (OPENMMDPD_GPU_SWEEP_BLOCKS; 4 holds 12 particles a region locally, so every region takes the global path) | expected time/step | expected particle-steps/s "
              "| measured time/step |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for m in models:
         total_bytes = sum(m.bytes_per_particle.values())
         measured_text = f"{1e6 * measured[m.n]:.0f} µs" if measured and m.n in measured else "no GPU lent"
         lines.append(f"| {m.n} | {sum(m.launches.values()):.0f} | {total_bytes:.0f} | {m.sweep.blocks_in_turn} | "
                      f"{m.sweep.rounds_per_block:.1f} | {m.sweep.pairs_per_block:.0f} | "
                      f"{m.sweeps_per_step * m.sweep.critical_rounds} ({m.sweeps_per_step * m.sweep.critical_chain}) | "
+                     f"{m.sweeps_per_step * m.sweep.colour_by_colour_rounds} | "
                      f"{m.critical_rounds_at_once[2]}, {m.critical_rounds_at_once[4]} | {1e6 * m.seconds:.0f} µs | {m.n / m.seconds:.3g} | "
                      f"{measured_text} |")
     lines += ["", "Per kernel (launches a step; bytes per particle a step, model):", ""]

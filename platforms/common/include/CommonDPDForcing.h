@@ -54,8 +54,8 @@ public:
     void writeTransport(const DPDIntegrator::TransportStatistics& statistics);
     void readTransport(DPDIntegrator::TransportStatistics& statistics) const;
     OpenMM::ComputeArray& getResponseField() { return responseField; }
-    /** Rows for a sweep's per-block G . Delta p^D (cleared), at least `rows` of them. */
-    OpenMM::ComputeArray& sweepRows(int rows);
+    /** Rows for a sweep's per-block G . Delta p^D (cleared), at least `rows` of them and `spareRows` after them (not summed). */
+    OpenMM::ComputeArray& sweepRows(int rows, int spareRows);
     /** The sum of the rows a sweep wrote, into the registers (for addDissipationToMultiplier). */
     void sumSweptResponse();
 

@@ -52,6 +52,13 @@ public:
      */
     static bool sweepInRounds();
     /**
+     * Whether a sweep runs all its colours in one launch, each block waiting only for its neighbours of
+     * earlier colours (dpdSweepSchedule.cc, the default), or a launch a colour
+     * (OPENMMDPD_GPU_SWEEP_LAUNCHES=colours: the order the one launch must reproduce bit for bit, for its
+     * test, and a fallback for a device whose work-groups cannot wait on one another).
+     */
+    static bool sweepInOneLaunch();
+    /**
      * The second position array of every kernel that reads positions (DPD_POSITIONS in dpdCellGrid.cc):
      * OpenMM's posqCorrection in mixed precision, which a kernel adds to posq; in single and double
      * precision, where there is none, posq again, which the kernel never reads through it.  So each

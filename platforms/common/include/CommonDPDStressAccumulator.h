@@ -25,8 +25,11 @@ public:
     void beginSample();
     /** Rows of 12 for the pair stress of a sweep's blocks or of VV's particles, at least `rows` of them. */
     OpenMM::ComputeArray& blockRows(int rows);
-    /** Add `rows` rows of blockRows() (one colour of a sweep, or VV's particles) to the step's dissipative and random parts. */
-    void addSweepColour(int rows);
+    /**
+     * Add blockRows()' first `colours` groups of `rows` rows (a sweep's colours, their blocks each; or VV's particles, one
+     * group) to the step's dissipative and random parts, group after group: the bits of a call a group.
+     */
+    void addSweepColours(int rows, int colours);
     /** The step's conservative part: the sum of the DPDForce's per-particle virial rows (the latest evaluation's). */
     void takeConservative(OpenMM::ComputeArray& virialRows);
     /** Add a conservative part summed on the host (xx, yy, zz, xy, xz, yz): the other forces' (DPDConservativeVirial). */

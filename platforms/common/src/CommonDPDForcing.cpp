@@ -88,7 +88,7 @@ void CommonDPDForcing::evaluateShearProfile(const DPDShearProfile& profile, bool
 }
 
 void CommonDPDForcing::sumRows(OpenMM::ComputeArray& rows, int count, Register target) {
-    sumRowsKernel.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, count, 1, rows, registers, static_cast<int>(target), 0);
+    sumRowsKernel.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, count, 1, 1, rows, registers, static_cast<int>(target), 0);
 }
 
 void CommonDPDForcing::sumResponseOfVelocities() {
@@ -111,11 +111,11 @@ void CommonDPDForcing::applyImpulse(double xi) {
     impulseKernel.run(numAtoms, -1, numAtoms, cc.getVelm(), cc.getAtomIndexArray(), forcingField, xi);
 }
 
-OpenMM::ComputeArray& CommonDPDForcing::sweepRows(int rows) {
+OpenMM::ComputeArray& CommonDPDForcing::sweepRows(int rows, int spareRows) {
     if (!blockResponse.isInitialized())
-        blockResponse.initialize<double>(cc, rows, "dpdBlockResponse");
-    else if (blockResponse.getSize() < static_cast<std::size_t>(rows))
-        blockResponse.resize(rows);
+        blockResponse.initialize<double>(cc, rows+spareRows, "dpdBlockResponse");
+    else if (blockResponse.getSize() < static_cast<std::size_t>(rows+spareRows))
+        blockResponse.resize(rows+spareRows);
     cc.clearBuffer(blockResponse);
     numSweepRows = rows;
     return blockResponse;

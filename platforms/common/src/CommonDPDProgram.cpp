@@ -41,14 +41,14 @@ namespace {
 constexpr int largestLocalBytes = 48*1024;
 
 /**
- * dpdSweepColour's local bytes a block other than its region's particles: the region's cells and the
+ * dpdSweepColours' local bytes a block other than its region's particles: the region's cells and the
  * block's (ints; a byte for each block cell's region cell and 13 for its half stencil's), the lanes' int
- * and double sums and three flags, two ints for the lockstep, and the buffer of pairs (two ints, two
+ * and double sums and three flags, two ints for the lockstep, two for the schedule, and the buffer of pairs (two ints, two
  * doubles, three shorts each, sweepPairsPerLane a lane).
  */
 int sweepBytesBesideTheRegion() {
     int width = CommonDPDCellGrid::maxBlockWidth, lanes = CommonDPDProgram::sweepLanes;
-    int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+lanes+3+2)+8*lanes+14*width*width*width;
+    int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+lanes+3+2+2)+8*lanes+14*width*width*width;
     return cellBytes+CommonDPDProgram::sweepPairsPerLane*lanes*(2*4+2*8+3*2);
 }
 
@@ -97,4 +97,13 @@ bool CommonDPDProgram::sweepInRounds() {
     if (std::string(setting) == "chain")
         return false;
     throw OpenMM::OpenMMException(std::string("OPENMMDPD_GPU_SWEEP_ORDER is '")+setting+"': it must be rounds (the default) or chain");
+}
+
+bool CommonDPDProgram::sweepInOneLaunch() {
+    const char* setting = std::getenv("OPENMMDPD_GPU_SWEEP_LAUNCHES");
+    if (setting == nullptr || std::string(setting) == "one")
+        return true;
+    if (std::string(setting) == "colours")
+        return false;
+    throw OpenMM::OpenMMException(std::string("OPENMMDPD_GPU_SWEEP_LAUNCHES is '")+setting+"': it must be one (the default) or colours");
 }

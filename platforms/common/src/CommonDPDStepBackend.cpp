@@ -57,7 +57,9 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     grid = ownGrid.get();
     kickKernel = CommonDPDKernel(program, "dpdKick");
     driftKernel = CommonDPDKernel(program, "dpdDrift");
-    sweepKernel = CommonDPDKernel(program, "dpdSweepColour");
+    sweepKernel = CommonDPDKernel(program, "dpdSweepColours");
+    sweepInOneLaunch = CommonDPDProgram::sweepInOneLaunch();
+    schedule = std::make_unique<CommonDPDSweepSchedule>(cc);
     gatherKernel = CommonDPDKernel(program, "dpdGatherOverPairs");
     sumRowsKernel = CommonDPDKernel(program, "dpdSumRows");
     typeOf.initialize<int>(cc, system.getNumParticles(), "dpdFrictionTypes");
@@ -283,30 +285,39 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
     const CommonDPDCellGrid::Layout& layout = grid->getLayout();
     std::uint64_t key = request.randomKey; // the kernel's mm_ulong
     int gatherStress = accumulateStress && request.gatherStress ? 1 : 0;
-    OpenMM::ComputeArray& blockStress = stress->blockRows(layout.blocksPerColour);
+    int numUsedColours = 0;
+    for (int colour = 0; colour < layout.numColours; colour++)
+        numUsedColours += layout.colourIsUsed(colour) ? 1 : 0;
+    // The stress rows of a launch's colours, one colour's blocks after another's, summed colour by colour.
+    OpenMM::ComputeArray& blockStress = stress->blockRows(layout.blocksPerColour*(sweepInOneLaunch ? numUsedColours : 1)+sweepBlocks);
     // Norton: each block's G . Delta p^D in a row, all colours' rows one after another, summed in order.
     bool response = request.gatherResponse;
     int withResponse = response ? 1 : 0;
-    OpenMM::ComputeArray& responseOfPairs = response ? forcing->sweepRows(layout.blocksPerColour*layout.numColours) : storedForces;
+    OpenMM::ComputeArray& responseOfPairs = response ? forcing->sweepRows(layout.blocksPerColour*layout.numColours, sweepBlocks) : storedForces;
     OpenMM::ComputeArray& responseFieldOrNone = response ? forcing->getResponseField() : storedForces; // unused unless response
     int recordRounds = profile->isRecording() ? 1 : 0;
-    OpenMM::ComputeArray& roundsRows = profile->rows(layout);
-    for (int n = 0; n < layout.numColours; n++) {
-        int colour = request.reversed ? layout.numColours-1-n : n;
-        if (!layout.colourIsUsed(colour))
+    OpenMM::ComputeArray& roundsRows = profile->rows(layout, sweepBlocks);
+    int itemsPerColour = (layout.blocksPerColour+sweepBlocks-1)/sweepBlocks, groupSize = sweepBlocks*CommonDPDProgram::sweepLanes;
+    // All the colours' turns in one launch (dpdSweepSchedule.cc), or a launch a used colour's turn.
+    for (int firstTurn = 0; firstTurn < layout.numColours; firstTurn++) {
+        int colour = request.reversed ? layout.numColours-1-firstTurn : firstTurn;
+        if (!sweepInOneLaunch && !layout.colourIsUsed(colour))
             continue;
-        int groupSize = sweepBlocks*CommonDPDProgram::sweepLanes, numGroups = (layout.blocksPerColour+sweepBlocks-1)/sweepBlocks;
-        sweepKernel.run(numGroups*groupSize, groupSize, colour, layout.numCells,
-                        layout.numBlocks, layout.blocksPerColour, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(),
-                        grid->getInverseBoxSize(), cc.getVelm(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf,
-                        frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT, request.dt, key, mode,
-                        request.adaptive ? 1 : 0, request.adaptiveFriction, request.adaptiveNoise, request.reversed ? 1 : 0, gatherStress, blockStress, shear->flow().getShearRate(), withResponse,
-                        responseFieldOrNone, responseOfPairs, n*layout.blocksPerColour, recordRounds, roundsRows,
-                        colour*layout.blocksPerColour);
+        int numTurns = sweepInOneLaunch ? layout.numColours : 1, launchColours = sweepInOneLaunch ? numUsedColours : 1;
+        int epoch = schedule->beginLaunch(layout, sweepBlocks);
+        sweepKernel.run(itemsPerColour*launchColours*groupSize, groupSize, firstTurn, numTurns, schedule->getTickets(),
+                        schedule->getBlockSwept(), epoch, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
+                        CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(),
+                        grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs,
+                        friction.numTypes, friction.maxCutoff, kT, request.dt, key, mode, request.adaptive ? 1 : 0,
+                        request.adaptiveFriction, request.adaptiveNoise, request.reversed ? 1 : 0, gatherStress, blockStress,
+                        shear->flow().getShearRate(), withResponse, responseFieldOrNone, responseOfPairs, recordRounds, roundsRows);
         if (gatherStress)
-            stress->addSweepColour(layout.blocksPerColour);
+            stress->addSweepColours(layout.blocksPerColour, launchColours);
+        if (sweepInOneLaunch)
+            break;
     }
-    profile->write(layout, mode == OrnsteinUhlenbeck ? "O" : "BBK");
+    profile->write(layout, mode == OrnsteinUhlenbeck ? "O" : "BBK", request.reversed);
 }
 
 void CommonDPDStepBackend::sweepOrnsteinUhlenbeck(const DPDSweepRequest& request) {
@@ -330,7 +341,7 @@ double CommonDPDStepBackend::sumFrictionFeedback() {
                      grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
                      friction.maxCutoff, kT, 0.0, std::uint64_t(0), shear->flow().getShearRate(), cc.getVelm(), cc.getLongForceBuffer(), 0, 0,
                      feedbackRows);
-    sumRowsKernel.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, numAtoms, 1, feedbackRows, feedbackSum, 0, 0);
+    sumRowsKernel.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, numAtoms, 1, 1, feedbackRows, feedbackSum, 0, 0);
     double sum; // read back: xi lives in the scheme layer (DPDSchemeState), which the next O sweep's argument gives the device
     feedbackSum.download(&sum);
     return sum;
@@ -355,7 +366,7 @@ void CommonDPDStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& 
                            request.dt, key, shear->flow().getShearRate(), cc.getVelm(), forces, latestForcesStored ? 1 : 0, gatherStress,
                            stressRows);
     if (gatherStress)
-        stress->addSweepColour(numAtoms);
+        stress->addSweepColours(numAtoms, 1);
 }
 
 void CommonDPDStepBackend::moveImages(double elapsed, bool wrap) {

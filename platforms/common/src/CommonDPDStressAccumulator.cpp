@@ -43,25 +43,25 @@ OpenMM::ComputeArray& CommonDPDStressAccumulator::blockRows(int blocks) {
     return pairRows;
 }
 
-void CommonDPDStressAccumulator::addSweepColour(int blocks) {
-    sumRows.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, blocks, 12, pairRows, stepSums, 12, 1);
+void CommonDPDStressAccumulator::addSweepColours(int rows, int colours) {
+    sumRows.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, rows, colours, 12, pairRows, stepSums, 12, 1);
 }
 
 void CommonDPDStressAccumulator::takeConservative(OpenMM::ComputeArray& virialRows) {
-    sumRows.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, cc.getNumAtoms(), 6, virialRows, stepSums, 6, 0);
+    sumRows.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, cc.getNumAtoms(), 1, 6, virialRows, stepSums, 6, 0);
 }
 
 void CommonDPDStressAccumulator::addConservative(const double* tensor) {
     if (!hostConservative.isInitialized())
         hostConservative.initialize<double>(cc, 6, "dpdHostConservativeStress");
     hostConservative.upload(tensor);
-    sumRows.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, 1, 6, hostConservative, stepSums, 6, 1);
+    sumRows.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, 1, 1, 6, hostConservative, stepSums, 6, 1);
 }
 
 void CommonDPDStressAccumulator::endSample(double volume, double pairScale) {
     int numAtoms = cc.getNumAtoms();
     kineticTensor.run(numAtoms, -1, numAtoms, cc.getVelm(), kineticRows);
-    sumRows.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, numAtoms, 6, kineticRows, stepSums, 0, 0);
+    sumRows.run(CommonDPDCellGrid::scanSize, CommonDPDCellGrid::scanSize, numAtoms, 1, 6, kineticRows, stepSums, 0, 0);
     accumulate.run(1, -1, stepSums, sums, -1.0/volume, pairScale);
     steps++;
 }

@@ -17,20 +17,20 @@ CommonDPDSweepProfile::CommonDPDSweepProfile(OpenMM::ComputeContext& cc) : cc(cc
     blockRows.initialize<int>(cc, 3, "dpdSweepProfile");
 }
 
-OpenMM::ComputeArray& CommonDPDSweepProfile::rows(const CommonDPDCellGrid::Layout& layout) {
-    int size = isRecording() ? 3*layout.numColours*layout.blocksPerColour : 3;
+OpenMM::ComputeArray& CommonDPDSweepProfile::rows(const CommonDPDCellGrid::Layout& layout, int spareRows) {
+    int size = isRecording() ? 3*(layout.numColours*layout.blocksPerColour+spareRows) : 3;
     if (static_cast<int>(blockRows.getSize()) < size)
         blockRows.resize(size);
     return blockRows;
 }
 
-void CommonDPDSweepProfile::write(const CommonDPDCellGrid::Layout& layout, const char* mode) {
+void CommonDPDSweepProfile::write(const CommonDPDCellGrid::Layout& layout, const char* mode, bool reversed) {
     if (!isRecording())
         return;
     std::vector<int> values;
     blockRows.download(values);
     std::ofstream file(path, std::ios::app);
-    file << "{\"mode\": \"" << mode << "\", \"cells\": [" << layout.numCells.x << ", " << layout.numCells.y << ", "
+    file << "{\"mode\": \"" << mode << "\", \"reversed\": " << (reversed ? "true" : "false") << ", \"cells\": [" << layout.numCells.x << ", " << layout.numCells.y << ", "
          << layout.numCells.z << "], \"blocks\": [" << layout.numBlocks.x << ", " << layout.numBlocks.y << ", " << layout.numBlocks.z
          << "], \"blocksPerColour\": " << layout.blocksPerColour << ", \"colours\": [";
     bool firstColour = true;
@@ -38,7 +38,7 @@ void CommonDPDSweepProfile::write(const CommonDPDCellGrid::Layout& layout, const
         if (!layout.colourIsUsed(n))
             continue;
         const char* names[3] = {"rounds", "pairs", "candidates"};
-        file << (firstColour ? "{" : ", {");
+        file << (firstColour ? "{" : ", {") << "\"colour\": " << n << ", ";
         for (int column = 0; column < 3; column++) {
             file << (column == 0 ? "\"" : "], \"") << names[column] << "\": [";
             for (int b = 0; b < layout.blocksPerColour; b++)

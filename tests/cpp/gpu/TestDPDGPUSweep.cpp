@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <cstdio>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 #include <unistd.h>
 
@@ -56,7 +57,9 @@ SweptRun sweptRun(const EquilibratedFluid& start, const std::string& scheme, int
         if (a.stress.dissipative[k] != b.stress.dissipative[k] || a.stress.random[k] != b.stress.random[k])
             return ::testing::AssertionFailure() << "the sweep's stress differs in component " << k;
     if (a.transport.forcingSum != b.transport.forcingSum || a.transport.responseSum != b.transport.responseSum)
-        return ::testing::AssertionFailure() << "Norton's sums differ";
+        return ::testing::AssertionFailure() << std::setprecision(17) << "Norton's sums differ: forcing " << a.transport.forcingSum
+                                             << " against " << b.transport.forcingSum << ", response " << a.transport.responseSum
+                                             << " against " << b.transport.responseSum;
     return ::testing::AssertionSuccess();
 }
 
@@ -148,6 +151,31 @@ TEST(GPUSweep, BlocksSweptSideBySideGiveTheBitsOfOneBlockAWorkGroup) {
     }
 }
 
+TEST(GPUSweep, AllColoursInOneLaunchGiveTheBitsOfALaunchAColour) {
+    // By default a sweep runs all eight colours in one launch, each block as soon as its neighbours of
+    // earlier colours are swept (dpdSweepSchedule.cc); OPENMMDPD_GPU_SWEEP_LAUNCHES=colours runs a launch
+    // a colour, the order the one launch must reproduce.  A block then reads exactly the velocities the
+    // colour-by-colour sweep gives it, so every scheme (BAOOAB's second sweep backwards, its colours in
+    // reverse), with Norton's response, Lees-Edwards shear and the stress, must give the same bits, with
+    // one block a work-group and with three (8 blocks a colour: every third work-group's last slice has
+    // no block, and every region takes the global path at that capacity).  pocl runs the work-groups on
+    // two threads, so blocks of different colours do overlap.  Mutation: a block that does not wait for
+    // its earlier neighbours (dpdWaitForEarlierNeighbours returning at once) reads velocities before they
+    // are written, and the trajectories differ.
+    EquilibratedFluid start = equilibratedSoftFluid(1536);
+    makeTwoSpecies(*start.fluid.system, nullptr);
+    for (const char* scheme : {"ABOBA", "S1", "BAOOAB", "ABOBA+Norton", "ABOBA+shear"})
+        for (const char* blocks : {"1", "3"}) {
+            EnvironmentSetting sideBySide("OPENMMDPD_GPU_SWEEP_BLOCKS", blocks);
+            SweptRun colourByColour;
+            {
+                EnvironmentSetting launches("OPENMMDPD_GPU_SWEEP_LAUNCHES", "colours");
+                colourByColour = sweptRun(start, scheme, 10);
+            }
+            EXPECT_TRUE(sameBits(sweptRun(start, scheme, 10), colourByColour)) << scheme << ", " << blocks << " blocks a work-group";
+        }
+}
+
 TEST(GPUSweep, ProfileRecordsEachBlocksRoundsAndPairsWithoutChangingTheBits) {
     // With OPENMMDPD_GPU_SWEEP_PROFILE set, each sweep appends its blocks' rounds and pairs (the cost
     // model's input, benchmarks/gpu_cost_model.py).  Observing changes nothing: the run's bits are those
@@ -204,6 +232,10 @@ TEST(GPUSweep, SweepSettingsOutOfRangeRaiseNamingThem) {
                                                       "a whole number of blocks from 1 to 4 a work-group on this device"}))
             << value;
     }
+    {
+        EnvironmentSetting launches("OPENMMDPD_GPU_SWEEP_LAUNCHES", "all");
+        EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_LAUNCHES is 'all'", "one (the default) or colours"}));
+    }
     EnvironmentSetting profile("OPENMMDPD_GPU_SWEEP_PROFILE", "/no/such/folder/profile.jsonl");
     EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_PROFILE is '/no/such/folder/profile.jsonl'", "cannot be opened"}));
 }
@@ -241,3 +273,4 @@ TEST(GPUSweep, SweepCapacityOutOfRangeRaisesNamingIt) {
     EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_CAPACITY is '166'",
                                                   "from 0 to 165 a block with 2 blocks a work-group in this precision"}));
 }
+

@@ -6,8 +6,10 @@
  * no order: a gather per particle (dpdGatherOverPairs).  The successive sweeps
  * need one:
  *
- * One colour of the cell grid's blocks per launch (CommonDPDCellGrid: two blocks of a colour share no
- * particle), one work-group of DPD_SWEEP_LANES lanes per block.  The block's pairs are swept one after
+ * The cell grid's blocks colour after colour (CommonDPDCellGrid: two blocks of a colour share no
+ * particle), all the colours in one launch, each block as soon as its neighbours of earlier colours are
+ * swept (dpdSweepSchedule.cc; or a launch a colour), a slice of DPD_SWEEP_LANES lanes of a work-group
+ * per block.  The block's pairs are swept one after
  * another, each update seeing the velocities the previous ones left (the successive sweep, Shang 2021
  * eq. 2.10, sec. 2.3), in a fixed order: the block's cells (z, y, x), each cell's particles i (System
  * order), and for each i its partners j after it in its cell, then in the 13 cells of the half stencil;
@@ -17,7 +19,7 @@
  * Each pair update is Delta p = slope u + offset along e_ij (DPDPairFormulas.h), with slope and offset
  * independent of the velocities: the lanes compute, in parallel, everything of the block's candidate
  * pairs that the positions and random numbers decide (e_ij, r, slope, offset), one candidate a lane,
- * from the block's region held in local memory (dpdSweepColour), and append the pairs they find to a
+ * from the block's region held in local memory (dpdSweepColours), and append the pairs they find to a
  * buffer in the sweep's order.  The buffered pairs are then applied in rounds of pairs that share no
  * particle, every lane at once (dpdApplyBufferedPairsInRounds): each particle sees its pairs in the
  * sweep's order with the same arithmetic, so the result is the sequential sweep's bits whatever the
@@ -79,8 +81,8 @@ DEVICE void dpdInclusiveScanInPlace(LOCAL_ARG int* values, int n, LOCAL_ARG int*
 }
 
 /**
- * One colour of the exact successive sweep: a slice of DPD_SWEEP_LANES lanes of a work-group per block,
- * DPD_SWEEP_BLOCKS blocks a work-group side by side (OpenMM caps a launch's work-groups, so this is
+ * The exact successive sweep, colour after colour (in one launch or a launch a colour): a slice of
+ * DPD_SWEEP_LANES lanes of a work-group per block, DPD_SWEEP_BLOCKS blocks a work-group side by side (OpenMM caps a launch's work-groups, so this is
  * what puts more blocks in flight), each slice with its own part of the local arrays.  The block's
  * particles and the partners they reach (its region) are read into local memory once (positions,
  * System indices, types, velocities); the lanes then examine the candidates DPD_SWEEP_LANES at a time,
@@ -102,15 +104,16 @@ DEVICE void dpdInclusiveScanInPlace(LOCAL_ARG int* values, int n, LOCAL_ARG int*
  */
 #define DPD_SWEEP_SLICE_ARRAY(type, name, size) LOCAL type name##OfSlices[DPD_SWEEP_BLOCKS*(size)]; \
     LOCAL_ARG type* name = name##OfSlices+DPD_SWEEP_SLICE*(size)
-KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocksInColour, DPD_POSITIONS, double4 boxSize,
+KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT tickets, GLOBAL int* RESTRICT blockSwept, int epoch,
+                            int4 numCells, int4 numBlocks, int blocksInColour, DPD_POSITIONS, double4 boxSize,
                            double4 inverseBoxSize, GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT cellStart,
                            GLOBAL const int* RESTRICT cellAtoms, GLOBAL const int* RESTRICT atomIndex,
                            GLOBAL const int* RESTRICT typeOf, GLOBAL const double* RESTRICT friction,
                            GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff, double kT, double dt,
                            mm_ulong randomKey, int mode, int adaptive, double adaptiveFriction,
                            double adaptiveNoise, int reversed, int gatherStress, GLOBAL double* RESTRICT blockStress, double shearRate, int withResponse,
-                           GLOBAL const double* RESTRICT responseField, GLOBAL double* RESTRICT blockResponse, int firstResponseRow,
-                           int recordRounds, GLOBAL int* RESTRICT blockRounds, int firstRoundsRow) {
+                           GLOBAL const double* RESTRICT responseField, GLOBAL double* RESTRICT blockResponse,
+                           int recordRounds, GLOBAL int* RESTRICT blockRounds) {
     DPD_SWEEP_SLICE_ARRAY(int, regionFirst, DPD_SWEEP_MAX_REGION_CELLS+1);
     DPD_SWEEP_SLICE_ARRAY(int, regionGridStart, DPD_SWEEP_MAX_REGION_CELLS);
     DPD_SWEEP_SLICE_ARRAY(int, cellFirstCandidate, DPD_SWEEP_MAX_BLOCK_CELLS+1);
@@ -136,18 +139,32 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
     DPD_SWEEP_SLICE_ARRAY(unsigned short, pairRound, DPD_SWEEP_PAIRS);
     LOCAL int pendingRounds[3*DPD_SWEEP_BLOCKS]; // three flags a slice (dpdApplyBufferedPairsInRounds)
     LOCAL int sliceCandidates[DPD_SWEEP_BLOCKS], sliceApplies[DPD_SWEEP_BLOCKS]; // what the lockstep reads of every slice
+    LOCAL int takenTicket, stillWaiting; // the schedule's (dpdSweepSchedule.cc)
     int lane = DPD_SWEEP_LANE;
     double maxCutoff2 = maxCutoff*maxCutoff;
     int halfX = numBlocks.x == 1 ? 1 : numBlocks.x/2, halfY = numBlocks.y == 1 ? 1 : numBlocks.y/2;
-    for (int first = GROUP_ID*DPD_SWEEP_BLOCKS; first < blocksInColour; first += NUM_GROUPS*DPD_SWEEP_BLOCKS) {
-        int b = first+DPD_SWEEP_SLICE, active = b < blocksInColour; // a slice past the colour's last block sweeps nothing
-        int bx = b%halfX, by = (b/halfX)%halfY, bz = b/(halfX*halfY);
+    // Items of DPD_SWEEP_BLOCKS consecutive blocks of a colour, the colours' turns in order (dpdSweepSchedule.cc).
+    int itemsPerColour = (blocksInColour+DPD_SWEEP_BLOCKS-1)/DPD_SWEEP_BLOCKS;
+    int numItems = itemsPerColour*dpdUsedColoursInTurns(firstTurn, numTurns, reversed, numBlocks);
+    for (int pass = 0; pass <= numItems; pass++) { // at most every item and the ticket past them
+        int item = dpdTakeTicket(tickets, numItems, &takenTicket);
+        if (item >= numItems)
+            break;
+        int launchColour = item/itemsPerColour; // the item's colour among this launch's, in turn order
+        int turn = dpdTurnOfUsedColour(launchColour, firstTurn, reversed, numBlocks), colour = dpdColourOfTurn(turn, reversed);
+        // A slice past the colour's last block sweeps nothing.  It takes the grid coordinates of the colour's
+        // first block, so that nothing it computes leaves the grid, and writes its (zero) sums to spare rows
+        // instead of skipping the writes: pocl, with two or more threads, was seen to store a skipping slice's
+        // sums into the row its block number would name (the next colour's first block's).
+        int b = (item%itemsPerColour)*DPD_SWEEP_BLOCKS+DPD_SWEEP_SLICE, active = b < blocksInColour, gridBlock = active ? b : 0;
+        int bx = gridBlock%halfX, by = (gridBlock/halfX)%halfY, bz = gridBlock/(halfX*halfY);
         bx = numBlocks.x == 1 ? 0 : 2*bx+(colour&1);
         by = numBlocks.y == 1 ? 0 : 2*by+((colour>>1)&1);
         bz = numBlocks.z == 1 ? 0 : 2*bz+((colour>>2)&1);
         int x0 = bx*numCells.x/numBlocks.x, x1 = (bx+1)*numCells.x/numBlocks.x;
         int y0 = by*numCells.y/numBlocks.y, y1 = (by+1)*numCells.y/numBlocks.y;
         int z0 = bz*numCells.z/numBlocks.z, z1 = (bz+1)*numCells.z/numBlocks.z;
+        dpdWaitForEarlierNeighbours(active, bx, by, bz, numBlocks, turn, firstTurn, reversed, blockSwept, epoch, &stillWaiting);
         int sizeX = x1-x0, sizeY = y1-y0, numBlockCells = active ? sizeX*sizeY*(z1-z0) : 0;
         int4 origin = make_int4((x0-1+numCells.x)%numCells.x, (y0-1+numCells.y)%numCells.y, z0, 0);
         int4 regionSize = make_int4(min(sizeX+2, numCells.x), min(sizeY+2, numCells.y), min(z1-z0+1, numCells.z), 0);
@@ -309,20 +326,22 @@ KERNEL void dpdSweepColour(int colour, int4 numCells, int4 numBlocks, int blocks
         if (gatherStress) // this block's row of the sweep's pair stress (dpdStress.cc sums the rows in order)
             for (int k = 0; k < 12; k++) {
                 double sum = dpdSumOverLanes(stress[k], laneTotals);
-                if (lane == 0 && active)
-                    blockStress[12*b+k] = sum;
+                if (lane == 0) // the launch's colours' rows in turn order, each colour's blocks in order; a spare row past them
+                    blockStress[12*(active ? launchColour*blocksInColour+b : numItems/itemsPerColour*blocksInColour+DPD_SWEEP_SLICE)+k] = sum;
             }
         if (withResponse) {
             double sum = dpdSumOverLanes(response, laneTotals);
-            if (lane == 0 && active)
-                blockResponse[firstResponseRow+b] = sum;
+            if (lane == 0) // every turn's rows, summed in turn order; a spare row past them
+                blockResponse[active ? turn*blocksInColour+b : 8*blocksInColour+DPD_SWEEP_SLICE] = sum;
         }
-        if (lane == 0 && active && recordRounds) { // for the cost model (CommonDPDSweepProfile): this block's rounds, pairs and candidates
-            blockRounds[3*(firstRoundsRow+b)] = numRounds;
-            blockRounds[3*(firstRoundsRow+b)+1] = numPairs;
-            blockRounds[3*(firstRoundsRow+b)+2] = numCandidates;
+        if (lane == 0 && recordRounds) { // for the cost model (CommonDPDSweepProfile): this block's rounds, pairs and candidates
+            int row = active ? colour*blocksInColour+b : 8*blocksInColour+DPD_SWEEP_SLICE; // a spare row past them
+            blockRounds[3*row] = numRounds;
+            blockRounds[3*row+1] = numPairs;
+            blockRounds[3*row+2] = numCandidates;
         }
-        SYNC_THREADS; // the next blocks reuse the local arrays
+        SYNC_THREADS; // the next blocks reuse the local arrays, and the ticket is read
+        dpdMarkBlockSwept(active, bx, by, bz, numBlocks, blockSwept, epoch);
     }
 }
 

@@ -24,26 +24,32 @@ KERNEL void dpdKineticTensor(int numAtoms, GLOBAL const mixed4* RESTRICT velm, G
 /**
  * target[offset..offset+width) (+)= the sum of `count` rows of `width` (<= 12) doubles: thread t sums
  * rows t, t + DPD_SCAN_SIZE, ... in order, then a fixed tree adds the threads' sums.  One work-group.
+ * With `groups` > 1, the groups of `count` rows one after another are added to the target in turn, each
+ * as a call of its own would add it (the colours of a sweep in one launch: the bits of a call a colour).
  */
-KERNEL void dpdSumRows(int count, int width, GLOBAL const double* RESTRICT rows, GLOBAL double* RESTRICT target, int offset,
-                       int accumulate) {
+KERNEL void dpdSumRows(int count, int groups, int width, GLOBAL const double* RESTRICT rows, GLOBAL double* RESTRICT target,
+                       int offset, int accumulate) {
     LOCAL double partial[DPD_SCAN_SIZE*12];
-    for (int k = 0; k < width; k++) {
-        double sum = 0.0;
-        for (int row = LOCAL_ID; row < count; row += DPD_SCAN_SIZE)
-            sum += rows[row*width+k];
-        partial[LOCAL_ID*12+k] = sum;
-    }
-    SYNC_THREADS;
-    for (int stride = DPD_SCAN_SIZE/2; stride > 0; stride /= 2) {
-        if (LOCAL_ID < stride)
-            for (int k = 0; k < width; k++)
-                partial[LOCAL_ID*12+k] += partial[(LOCAL_ID+stride)*12+k];
+    for (int group = 0; group < groups; group++) {
+        GLOBAL const double* groupRows = rows+(size_t) group*count*width;
+        for (int k = 0; k < width; k++) {
+            double sum = 0.0;
+            for (int row = LOCAL_ID; row < count; row += DPD_SCAN_SIZE)
+                sum += groupRows[row*width+k];
+            partial[LOCAL_ID*12+k] = sum;
+        }
         SYNC_THREADS;
+        for (int stride = DPD_SCAN_SIZE/2; stride > 0; stride /= 2) {
+            if (LOCAL_ID < stride)
+                for (int k = 0; k < width; k++)
+                    partial[LOCAL_ID*12+k] += partial[(LOCAL_ID+stride)*12+k];
+            SYNC_THREADS;
+        }
+        if (LOCAL_ID == 0)
+            for (int k = 0; k < width; k++)
+                target[offset+k] = (accumulate || group > 0 ? target[offset+k] : 0.0)+partial[k];
+        SYNC_THREADS; // the next group reuses partial
     }
-    if (LOCAL_ID == 0)
-        for (int k = 0; k < width; k++)
-            target[offset+k] = (accumulate ? target[offset+k] : 0.0)+partial[k];
 }
 
 /**
