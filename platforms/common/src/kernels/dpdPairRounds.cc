@@ -11,7 +11,7 @@
 // A sweep's work-group sweeps DPD_SWEEP_BLOCKS blocks side by side, DPD_SWEEP_LANES lanes each: a
 // thread's block among them (its slice of the work-group and of the local arrays) and its lane in it.
 #define DPD_SWEEP_SLICE (LOCAL_ID/DPD_SWEEP_LANES)
-#define DPD_SWEEP_LANE (LOCAL_ID-DPD_SWEEP_SLICE*DPD_SWEEP_LANES)
+#define DPD_SWEEP_LANE (LOCAL_ID%DPD_SWEEP_LANES)
 
 /**
  * For the pair this lane found at buffer position k (found: 1) in the chunk whose pairs fill positions
