@@ -34,7 +34,10 @@ import tempfile
 import time
 from typing import Dict, List, Optional, Sequence
 
-METHODS = ("ABOBA", "S1", "VV", "OpenMM-DPD")
+# "ABOBA, a launch a colour": ABOBA with OPENMMDPD_GPU_SWEEP_LAUNCHES=colours, the sweep's eight launches
+# against its one (the same bits), interleaved with the rest.
+COLOUR_BY_COLOUR = "ABOBA, a launch a colour"
+METHODS = ("ABOBA", COLOUR_BY_COLOUR, "S1", "VV", "OpenMM-DPD")
 BASELINE = "OpenMM-arrays"
 FRICTION, STEP = 4.5, 0.04
 
@@ -120,6 +123,9 @@ def run_child(method: str, n: int, platform_name: str, seconds: float, counter: 
     if method.endswith(BASELINE_BUILD_SUFFIX):
         method = method[:-len(BASELINE_BUILD_SUFFIX)]
         environment["PYTHONPATH"] = os.pathsep.join(filter(None, [baseline_build, environment.get("PYTHONPATH")]))
+    if method == COLOUR_BY_COLOUR:
+        method = "ABOBA"
+        environment["OPENMMDPD_GPU_SWEEP_LAUNCHES"] = "colours"
     with tempfile.NamedTemporaryFile(suffix=".txt") as counts:
         if counter is not None and platform_name == "OpenCL":
             environment.update(LD_PRELOAD=counter, OPENCL_PROBE_OUT=counts.name)
