@@ -63,6 +63,16 @@ int wholeNumberSetting(const char* name, const char* setting, long smallest, lon
     return static_cast<int>(value);
 }
 
+/** Whether an environment variable of two choices is unset or the default, false for the other, or an exception naming both. */
+bool isDefaultOfTwoChoices(const char* name, const char* defaultChoice, const char* otherChoice) {
+    const char* setting = std::getenv(name);
+    if (setting == nullptr || std::string(setting) == defaultChoice)
+        return true;
+    if (std::string(setting) == otherChoice)
+        return false;
+    throw OpenMM::OpenMMException(std::string(name)+" is '"+setting+"': it must be "+defaultChoice+" (the default) or "+otherChoice);
+}
+
 } // namespace
 
 int CommonDPDProgram::sweepBlocks(OpenMM::ComputeContext& cc) {
@@ -91,19 +101,9 @@ int CommonDPDProgram::sweepCapacity(OpenMM::ComputeContext& cc) {
 }
 
 bool CommonDPDProgram::sweepInRounds() {
-    const char* setting = std::getenv("OPENMMDPD_GPU_SWEEP_ORDER");
-    if (setting == nullptr || std::string(setting) == "rounds")
-        return true;
-    if (std::string(setting) == "chain")
-        return false;
-    throw OpenMM::OpenMMException(std::string("OPENMMDPD_GPU_SWEEP_ORDER is '")+setting+"': it must be rounds (the default) or chain");
+    return isDefaultOfTwoChoices("OPENMMDPD_GPU_SWEEP_ORDER", "rounds", "chain");
 }
 
 bool CommonDPDProgram::sweepInOneLaunch() {
-    const char* setting = std::getenv("OPENMMDPD_GPU_SWEEP_LAUNCHES");
-    if (setting == nullptr || std::string(setting) == "one")
-        return true;
-    if (std::string(setting) == "colours")
-        return false;
-    throw OpenMM::OpenMMException(std::string("OPENMMDPD_GPU_SWEEP_LAUNCHES is '")+setting+"': it must be one (the default) or colours");
+    return isDefaultOfTwoChoices("OPENMMDPD_GPU_SWEEP_LAUNCHES", "one", "colours");
 }

@@ -288,8 +288,10 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
     int numUsedColours = 0;
     for (int colour = 0; colour < layout.numColours; colour++)
         numUsedColours += layout.colourIsUsed(colour) ? 1 : 0;
-    // The stress rows of a launch's colours, one colour's blocks after another's, summed colour by colour.
-    OpenMM::ComputeArray& blockStress = stress->blockRows(layout.blocksPerColour*(sweepInOneLaunch ? numUsedColours : 1)+sweepBlocks);
+    // The stress rows of a launch's colours, one colour's blocks after another's, summed colour by colour,
+    // and a spare row a slice (only where the stress is gathered; else a placeholder the kernel never writes).
+    int stressRows = layout.blocksPerColour*(sweepInOneLaunch ? numUsedColours : 1)+sweepBlocks;
+    OpenMM::ComputeArray& blockStress = stress->blockRows(gatherStress ? stressRows : 1);
     // Norton: each block's G . Delta p^D in a row, all colours' rows one after another, summed in order.
     bool response = request.gatherResponse;
     int withResponse = response ? 1 : 0;
