@@ -32,7 +32,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import Dict, List, Optional, Sequence
+from typing import Dict, List, Optional, Sequence, Tuple
 
 # "ABOBA, a launch a colour": ABOBA with OPENMMDPD_GPU_SWEEP_LAUNCHES=colours, the sweep's eight launches
 # against its one (the same bits), interleaved with the rest.
@@ -115,6 +115,13 @@ def build_opencl_counter(directory: str) -> Optional[str]:
 BASELINE_BUILD_SUFFIX = " (--baseline)"
 
 
+def scheme_and_settings(method: str) -> Tuple[str, Dict[str, str]]:
+    """The method a child process runs, and the environment it runs with (a launch a colour: ABOBA so set)."""
+    if method == COLOUR_BY_COLOUR:
+        return "ABOBA", {"OPENMMDPD_GPU_SWEEP_LAUNCHES": "colours"}
+    return method, {}
+
+
 def run_child(method: str, n: int, platform_name: str, seconds: float, counter: Optional[str] = None,
               baseline_build: Optional[str] = None) -> Optional[dict]:
     """One run in its own process; with `counter` (OpenCL), the bytes of the device buffers it created too; a
@@ -123,9 +130,8 @@ def run_child(method: str, n: int, platform_name: str, seconds: float, counter: 
     if method.endswith(BASELINE_BUILD_SUFFIX):
         method = method[:-len(BASELINE_BUILD_SUFFIX)]
         environment["PYTHONPATH"] = os.pathsep.join(filter(None, [baseline_build, environment.get("PYTHONPATH")]))
-    if method == COLOUR_BY_COLOUR:
-        method = "ABOBA"
-        environment["OPENMMDPD_GPU_SWEEP_LAUNCHES"] = "colours"
+    method, settings = scheme_and_settings(method)
+    environment.update(settings)
     with tempfile.NamedTemporaryFile(suffix=".txt") as counts:
         if counter is not None and platform_name == "OpenCL":
             environment.update(LD_PRELOAD=counter, OPENCL_PROBE_OUT=counts.name)

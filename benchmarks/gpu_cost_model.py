@@ -84,10 +84,8 @@ KERNEL_BYTES: Dict[str, float] = {
     "dpdDrift": 32 + 32 + 32 + 24 + 32,  # read q, v, F (the kick fused into the drift), write q, v
     "clearThreeBuffers": 24,  # OpenMM clears the force buffer
     "dpdLocateParticles": 32 + 4 + 2,  # read q, write the cell, count it
-    "dpdSumCellTiles": 1,
-    "dpdScanCellCounts": 3,
-    "dpdScatterParticles": 4 + 2 + 4,
-    "dpdSortCells": 4 + 4 + 4,
+    "dpdScanCellCounts": 4,  # a cell: its count read and cleared, its first slot and cursor written (16 B, ~4 particles)
+    "dpdScatterParticles": 4 + 4 + 4 + 4 + 4,  # the cell, its slot (cursor), the atom written, its count; the sort: atomIndex
     "dpdConservativeForces": 32 + 4 + 4 + 4 + 24,  # q (neighbours from cache), cells, atomIndex, types, write F
     "reduceForces": 24 + 24,
     "dpdKick": 32 + 24 + 32,

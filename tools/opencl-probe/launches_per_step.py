@@ -17,7 +17,7 @@ import tempfile
 from typing import Dict
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "benchmarks"))
-from bench_gpu import METHODS, build_opencl_counter, make_context  # noqa: E402  (the benchmark's scene and counter)
+from bench_gpu import METHODS, build_opencl_counter, make_context, scheme_and_settings  # noqa: E402  (the benchmark's scene and counter)
 
 
 def child(method: str, n: int, steps: int) -> None:
@@ -31,8 +31,9 @@ def child(method: str, n: int, steps: int) -> None:
 def launches(library: str, method: str, n: int, steps: int) -> Dict[str, int]:
     """The launches of one child process, by kernel."""
     with tempfile.NamedTemporaryFile(suffix=".txt") as report:
-        environment = dict(os.environ, LD_PRELOAD=library, OPENCL_PROBE_OUT=report.name)
-        subprocess.run([sys.executable, __file__, "--child", method, str(n), str(steps)], env=environment, check=True,
+        scheme, settings = scheme_and_settings(method)
+        environment = dict(os.environ, LD_PRELOAD=library, OPENCL_PROBE_OUT=report.name, **settings)
+        subprocess.run([sys.executable, __file__, "--child", scheme, str(n), str(steps)], env=environment, check=True,
                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         return {fields[2]: int(fields[1]) for fields in (line.split() for line in open(report.name)) if fields[0] == "launches"}
 

@@ -2,11 +2,13 @@
 #define OPENMMDPD_COMMONDPDCELLGRID_H_
 
 #include "CommonDPDKernel.h"
+#include "CommonDPDTicketSchedule.h"
 #include "openmm/Vec3.h"
 #include "openmm/common/ComputeArray.h"
 #include "openmm/common/ComputeContext.h"
 #include "openmm/common/ComputeProgram.h"
 #include "openmm/common/ComputeVectorTypes.h"
+#include <memory>
 
 namespace OpenMMDPD {
 
@@ -61,16 +63,11 @@ public:
     static constexpr int scanSize = 256;
     /** The cells of one work-group's tile of the scan (DPD_SCAN_TILE in the kernel source). */
     static constexpr int scanTile = 8*scanSize;
-    /**
-     * The most tiles one work-group scans in turn, in one launch (a launch saved: about the cost of the
-     * extra tiles' serial pass on a GPU, 8 x 2048 cells, N of about 7 x 10^4 at rho = 3); more go a
-     * work-group a tile after a launch that sums them.
-     */
-    static constexpr int tilesOneWorkGroupScans = 8;
 
 private:
     OpenMM::ComputeContext& cc;
-    CommonDPDKernel locate, sumTiles, scan, scatter, sort;
+    CommonDPDKernel locate, scan, scatter;
+    std::unique_ptr<CommonDPDTicketSchedule> scanSchedule; // the scan's tiles, in one launch
     OpenMM::ComputeArray cellOf, cellCount, cellStart, cellCursor, cellAtoms, tileSum;
     Layout layout;
     double radius = 0.0;

@@ -5,7 +5,7 @@
 #include "CommonDPDCellGrid.h"
 #include "CommonDPDStressAccumulator.h"
 #include "CommonDPDSweepProfile.h"
-#include "CommonDPDSweepSchedule.h"
+#include "CommonDPDTicketSchedule.h"
 #include "CommonDPDForcing.h"
 #include "CommonDPDLeesEdwards.h"
 #include "DPDConservativeVirial.h"
@@ -24,7 +24,7 @@ namespace OpenMMDPD {
  * The backend of the schemes (DPDSplittingDynamics) on the OpenCL and CUDA platforms: each operation
  * is a kernel on OpenMM's device arrays (dpdSplittingStep.cc), the pairs come from the device cell
  * grid (CommonDPDCellGrid), and the O sweeps run colour by colour (in one launch, each block after
- * its neighbours of earlier colours: CommonDPDSweepSchedule), each block's pairs in rounds of disjoint
+ * its neighbours of earlier colours: CommonDPDTicketSchedule), each block's pairs in rounds of disjoint
  * pairs with the bits of one after another: the exact successive sweep of the host platforms, in the
  * grid's order, reproducible bit for bit.  Nothing is read back per step: a non-finite or runaway state is recorded on the device
  * and reported once per step() call (takeFailedSteps), naming the first step at which it was seen, and
@@ -127,7 +127,7 @@ private:
     CommonDPDKernel kickKernel, driftKernel, sweepKernel, gatherKernel, sumRowsKernel;
     int sweepBlocks = 1; // the blocks a sweep's work-group sweeps side by side, as compiled (CommonDPDProgram::sweepBlocks)
     bool sweepInOneLaunch = true; // all the colours in one launch (CommonDPDProgram::sweepInOneLaunch)
-    std::unique_ptr<CommonDPDSweepSchedule> schedule;
+    std::unique_ptr<CommonDPDTicketSchedule> schedule;
     std::unique_ptr<CommonDPDLeesEdwards> shear;
     std::unique_ptr<CommonDPDForcing> forcing;
     OpenMM::ComputeArray typeOf, frictionValues, frictionCutoffs, storedForces, flags;

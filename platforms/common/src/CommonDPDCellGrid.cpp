@@ -49,12 +49,11 @@ CommonDPDCellGrid::Layout CommonDPDCellGrid::layOut(const Vec3* box, double radi
 
 CommonDPDCellGrid::CommonDPDCellGrid(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program) : cc(cc) {
     locate = CommonDPDKernel(program, "dpdLocateParticles");
-    sumTiles = CommonDPDKernel(program, "dpdSumCellTiles");
     scan = CommonDPDKernel(program, "dpdScanCellCounts");
     scatter = CommonDPDKernel(program, "dpdScatterParticles");
-    sort = CommonDPDKernel(program, "dpdSortCells");
     cellOf.initialize<int>(cc, cc.getPaddedNumAtoms(), "dpdCellOf");
     cellAtoms.initialize<int>(cc, cc.getPaddedNumAtoms(), "dpdCellAtoms");
+    scanSchedule = std::make_unique<CommonDPDTicketSchedule>(cc, "dpdScanTiles");
 }
 
 void CommonDPDCellGrid::checkCutoffFitsBox(OpenMM::ComputeContext& cc, double radius, const char* owner) {
@@ -72,7 +71,7 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
     boxSize = OpenMM::mm_double4(box[0][0], box[1][1], box[2][2], box[1][0]); // w: the Lees-Edwards offset b_x
     inverseBoxSize = OpenMM::mm_double4(1.0/box[0][0], 1.0/box[1][1], 1.0/box[2][2], 0.0);
     int numCells = layout.numCells.w;
-    int numTiles = (numCells+scanTile-1)/scanTile; // of the scan's work-groups
+    int numTiles = (numCells+scanTile-1)/scanTile; // a work-group of the scan each
     if (numCells > numCellsAllocated) { // grows only: a box that breathes does not reallocate every step
         if (cellCount.isInitialized()) {
             cellCount.resize(numCells);
@@ -89,15 +88,13 @@ void CommonDPDCellGrid::build(double radius, const char* owner) {
         else
             tileSum.initialize<int>(cc, numTiles, "dpdTileSum");
         numCellsAllocated = numCells;
-        cc.clearBuffer(cellCount); // once: from here on every scan leaves the counts it read at zero
+        cc.clearBuffer(cellCount); // once: from here on every build leaves the counts at zero (dpdScatterParticles)
     }
     int numAtoms = cc.getNumAtoms();
     locate.run(numAtoms, -1, numAtoms, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), boxSize, inverseBoxSize, layout.numCells,
                cellOf, cellCount);
-    int tilesInTurn = numTiles <= tilesOneWorkGroupScans ? 1 : 0; // one launch, not two
-    if (!tilesInTurn)
-        sumTiles.run(numTiles*scanSize, scanSize, numCells, cellCount, tileSum);
-    scan.run((tilesInTurn ? 1 : numTiles)*scanSize, scanSize, numCells, numTiles, tilesInTurn, cellCount, tileSum, cellStart, cellCursor);
-    scatter.run(numAtoms, -1, numAtoms, cellOf, cellCursor, cellAtoms);
-    sort.run(numCells, -1, numCells, cellStart, cellAtoms, cc.getAtomIndexArray());
+    int epoch = scanSchedule->beginLaunch(tileSum.getSize()); // the flags grow with the tiles' sums, never shrink
+    scan.run(numTiles*scanSize, scanSize, numCells, numTiles, scanSchedule->getTickets(), tileSum, scanSchedule->getFlags(), epoch,
+             cellCount, cellStart, cellCursor);
+    scatter.run(numAtoms, -1, numAtoms, cellOf, cellStart, cellCursor, cellCount, cellAtoms, cc.getAtomIndexArray());
 }

@@ -59,7 +59,7 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     driftKernel = CommonDPDKernel(program, "dpdDrift");
     sweepKernel = CommonDPDKernel(program, "dpdSweepColours");
     sweepInOneLaunch = CommonDPDProgram::sweepInOneLaunch();
-    schedule = std::make_unique<CommonDPDSweepSchedule>(cc);
+    schedule = std::make_unique<CommonDPDTicketSchedule>(cc, "dpdSweepBlocks");
     gatherKernel = CommonDPDKernel(program, "dpdGatherOverPairs");
     sumRowsKernel = CommonDPDKernel(program, "dpdSumRows");
     typeOf.initialize<int>(cc, system.getNumParticles(), "dpdFrictionTypes");
@@ -306,9 +306,10 @@ void CommonDPDStepBackend::sweep(int mode, const DPDSweepRequest& request) {
         if (!sweepInOneLaunch && !layout.colourIsUsed(colour))
             continue;
         int numTurns = sweepInOneLaunch ? layout.numColours : 1, launchColours = sweepInOneLaunch ? numUsedColours : 1;
-        int epoch = schedule->beginLaunch(layout, sweepBlocks);
+        // A flag a block, and a spare one a slice of a work-group (dpdMarkBlockSwept).
+        int epoch = schedule->beginLaunch(layout.numBlocks.x*layout.numBlocks.y*layout.numBlocks.z+sweepBlocks);
         sweepKernel.run(itemsPerColour*launchColours*groupSize, groupSize, firstTurn, numTurns, schedule->getTickets(),
-                        schedule->getBlockSwept(), epoch, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
+                        schedule->getFlags(), epoch, layout.numCells, layout.numBlocks, layout.blocksPerColour, cc.getPosq(),
                         CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(), grid->getInverseBoxSize(), cc.getVelm(),
                         grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs,
                         friction.numTypes, friction.maxCutoff, kT, request.dt, key, mode, request.adaptive ? 1 : 0,

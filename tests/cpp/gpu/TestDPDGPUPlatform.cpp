@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 using namespace OpenMM;
 using namespace OpenMMDPD;
@@ -54,12 +55,15 @@ INSTANTIATE_TEST_SUITE_P(Precisions, GPUPrecision, ::testing::Values("double", "
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 TEST(GPUPlatform, CellGridOfSeveralScanTilesFindsEveryPair) {
-    // The scan of the cell counts works in tiles of 2048 cells (CommonDPDCellGrid::scanTile): up to
-    // 8 tiles one work-group scans in turn, carrying the running total; more go a work-group a tile,
-    // each starting after the totals of the tiles before it.  N = 7500 at density 3 has 13^3 = 2197
-    // cells, two tiles in turn; N = 54000 has 26^3 = 17576, nine tiles at once.  A tile started in the
-    // wrong place would lose or misplace the particles of its cells, and the forces would not be
-    // Reference's (double precision: to 1e-10, as for one tile above).
+    // The scan of the cell counts works in tiles of 2048 cells (CommonDPDCellGrid::scanTile), a tile a
+    // work-group in one launch, taken by ticket; each tile starts after the totals of the tiles before
+    // it, waiting for those not yet published (dpdCellGrid.cc).  N = 7500 at density 3 has 13^3 = 2197
+    // cells, two tiles; N = 54000 has 26^3 = 17576, nine.  A tile started in the wrong place would lose
+    // or misplace the particles of its cells, and the forces would not be Reference's (double
+    // precision: to 1e-10, as for one tile above).  Each grid is built three times, at three sets of
+    // positions: the later launches need the ticket counter the last ticket reset and a new epoch of
+    // the tiles' flags (a counter left past the tiles would scan nothing; a flag of the last launch
+    // taken for published would start a tile after a stale total).
     for (int numParticles : {7500, 54000}) {
         SoftFluid fluid = makeSoftFluid(numParticles, 3.0, 6);
         double cells = std::pow(std::floor(fluid.boxLength), 3);
@@ -67,13 +71,18 @@ TEST(GPUPlatform, CellGridOfSeveralScanTilesFindsEveryPair) {
         VerletIntegrator reference(0.01), device(0.01);
         Context referenceContext(*fluid.system, reference, platform("Reference"));
         auto deviceContext = gpuContext(*fluid.system, device, "double");
-        referenceContext.setPositions(fluid.positions);
-        deviceContext->setPositions(fluid.positions);
-        State expected = referenceContext.getState(State::Forces | State::Energy);
-        State actual = deviceContext->getState(State::Forces | State::Energy);
-        EXPECT_LT(relativeDifference(actual.getForces(), expected.getForces()), 1e-10) << numParticles;
-        EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-10*std::fabs(expected.getPotentialEnergy()))
-            << numParticles;
+        for (int build = 0; build < 3; build++) {
+            std::vector<Vec3> positions = fluid.positions;
+            for (Vec3& position : positions) // the particles move, and some leave their cells
+                position += Vec3(0.37, -0.21, 0.58)*build;
+            referenceContext.setPositions(positions);
+            deviceContext->setPositions(positions);
+            State expected = referenceContext.getState(State::Forces | State::Energy);
+            State actual = deviceContext->getState(State::Forces | State::Energy);
+            EXPECT_LT(relativeDifference(actual.getForces(), expected.getForces()), 1e-10) << numParticles << ", build " << build;
+            EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-10*std::fabs(expected.getPotentialEnergy()))
+                << numParticles << ", build " << build;
+        }
     }
 }
 

@@ -95,12 +95,12 @@ KERNEL void dpdLocateParticles(int numAtoms, DPD_POSITIONS, double4 boxSize, dou
 }
 
 /*
- * The first slot of every cell: an exclusive scan of the counts in tiles of DPD_SCAN_TILE cells.  A grid
- * of a few tiles is scanned by one work-group of DPD_SCAN_SIZE threads, tile after tile, in one launch;
- * a larger one by a work-group a tile, so that the whole device takes part however many cells there are
- * (one work-group for all of them made a large grid's scan a serial pass): dpdSumCellTiles first writes
- * each tile's total, and dpdScanCellCounts then starts each tile after the totals of the tiles before
- * it.  Integer sums only: the result does not depend on the order.
+ * The first slot of every cell: an exclusive scan of the counts in tiles of DPD_SCAN_TILE cells, a tile
+ * a work-group, all in one launch (dpdTickets.cc): each work-group takes its tile by ticket, publishes
+ * the tile's total, and starts the tile after the totals of the tiles before it, waiting for those not
+ * yet published (smaller tickets: work-groups already running).  So the whole device takes part however
+ * many cells there are (one work-group for all of them made a large grid's scan a serial pass), with no
+ * launch before it to sum the tiles.  Integer sums only: the result does not depend on the order.
  */
 #define DPD_SCAN_CELLS_PER_THREAD (DPD_SCAN_TILE/DPD_SCAN_SIZE) // DPD_SCAN_TILE: CommonDPDCellGrid::scanTile
 
@@ -124,47 +124,47 @@ DEVICE int dpdExclusiveScanOfLanes(int value, LOCAL_ARG int* sums, int lane, int
     return sums[lane]-value;
 }
 
-/** Each tile's number of particles (a grid of more than one tile). */
-KERNEL void dpdSumCellTiles(int numCells, GLOBAL const int* RESTRICT cellCount, GLOBAL int* RESTRICT tileSum) {
-    LOCAL int sums[DPD_SCAN_SIZE];
-    for (int tile = GROUP_ID; tile*DPD_SCAN_TILE < numCells; tile += NUM_GROUPS) {
-        int end = (tile+1)*DPD_SCAN_TILE < numCells ? (tile+1)*DPD_SCAN_TILE : numCells, sum = 0;
-        for (int cell = tile*DPD_SCAN_TILE+LOCAL_ID; cell < end; cell += DPD_SCAN_SIZE)
-            sum += cellCount[cell];
-        int before = dpdExclusiveScanOfLanes(sum, sums, LOCAL_ID, LOCAL_SIZE);
-        if (LOCAL_ID == DPD_SCAN_SIZE-1)
-            tileSum[tile] = before+sum;
-    }
-}
-
 /**
  * cellStart and cellCursor of every cell (cellStart[numCells] = the total), each thread
- * DPD_SCAN_CELLS_PER_THREAD cells in a row of a tile.  With tilesInTurn, one work-group scans every tile
- * in order, carrying the running total (a grid of a few tiles: no dpdSumCellTiles launch); otherwise a
- * work-group a tile, each starting after the totals dpdSumCellTiles wrote.  The counts are left at zero
- * for the next build's dpdLocateParticles: no clearing launch per build.
+ * DPD_SCAN_CELLS_PER_THREAD cells in a row of a tile.  A tile's total goes to tileSum, read and written
+ * only by atomics (coherent between work-groups on every device), then its flag to the epoch.  The
+ * counts are left at zero, for dpdScatterParticles to count the placements in and put back to zero for
+ * the next build's dpdLocateParticles: no clearing launch per build.
  */
-KERNEL void dpdScanCellCounts(int numCells, int numTiles, int tilesInTurn, GLOBAL int* RESTRICT cellCount,
-                              GLOBAL const int* RESTRICT tileSum, GLOBAL int* RESTRICT cellStart, GLOBAL int* RESTRICT cellCursor) {
+KERNEL void dpdScanCellCounts(int numCells, int numTiles, GLOBAL int* RESTRICT tickets, GLOBAL int* tileSum,
+                              GLOBAL int* tilePublished, int epoch, GLOBAL int* RESTRICT cellCount,
+                              GLOBAL int* RESTRICT cellStart, GLOBAL int* RESTRICT cellCursor) {
     LOCAL int sums[DPD_SCAN_SIZE];
-    int running = 0; // tilesInTurn: the particles of the tiles already scanned
-    for (int tile = GROUP_ID; tile < numTiles; tile += tilesInTurn ? 1 : NUM_GROUPS) {
-        int tileStart = running;
-        if (!tilesInTurn) {
-            int earlier = 0; // the particles of the tiles before this one
-            for (int k = LOCAL_ID; k < tile; k += DPD_SCAN_SIZE)
-                earlier += tileSum[k];
-            dpdExclusiveScanOfLanes(earlier, sums, LOCAL_ID, LOCAL_SIZE);
-            tileStart = sums[DPD_SCAN_SIZE-1];
-        }
+    LOCAL int takenTicket, stillWaiting;
+    for (int pass = 0; pass <= numTiles; pass++) { // at most every tile and the ticket past them
+        int tile = dpdTakeTicket(tickets, numTiles, &takenTicket);
+        if (tile >= numTiles)
+            break;
         int first = tile*DPD_SCAN_TILE+LOCAL_ID*DPD_SCAN_CELLS_PER_THREAD;
         int counts[DPD_SCAN_CELLS_PER_THREAD], total = 0;
         for (int k = 0; k < DPD_SCAN_CELLS_PER_THREAD; k++) {
             counts[k] = first+k < numCells ? cellCount[first+k] : 0;
             total += counts[k];
         }
-        int start = tileStart+dpdExclusiveScanOfLanes(total, sums, LOCAL_ID, LOCAL_SIZE);
-        running = tileStart+sums[DPD_SCAN_SIZE-1];
+        int start = dpdExclusiveScanOfLanes(total, sums, LOCAL_ID, LOCAL_SIZE);
+        if (LOCAL_ID == DPD_SCAN_SIZE-1) {
+            DPD_ATOMIC_EXCHANGE(&tileSum[tile], start+total);
+            DPD_GLOBAL_FENCE;
+            DPD_ATOMIC_EXCHANGE(&tilePublished[tile], epoch);
+        }
+        // The tiles before this one: lane k watches tiles k, k + DPD_SCAN_SIZE, ...
+        int unpublished;
+        do {
+            unpublished = 0;
+            for (int k = LOCAL_ID; k < tile; k += DPD_SCAN_SIZE)
+                unpublished |= ATOMIC_ADD(&tilePublished[k], 0) != epoch;
+        } while (dpdAnyLaneWaits(unpublished, &stillWaiting));
+        DPD_GLOBAL_FENCE;
+        int earlier = 0;
+        for (int k = LOCAL_ID; k < tile; k += DPD_SCAN_SIZE)
+            earlier += ATOMIC_ADD(&tileSum[k], 0);
+        dpdExclusiveScanOfLanes(earlier, sums, LOCAL_ID, LOCAL_SIZE);
+        start += sums[DPD_SCAN_SIZE-1];
         for (int k = 0; k < DPD_SCAN_CELLS_PER_THREAD && first+k < numCells; k++) {
             cellStart[first+k] = start;
             cellCursor[first+k] = start;
@@ -173,21 +173,30 @@ KERNEL void dpdScanCellCounts(int numCells, int numTiles, int tilesInTurn, GLOBA
         }
         if (tile == numTiles-1 && LOCAL_ID == DPD_SCAN_SIZE-1) // the threads past the last cell add nothing
             cellStart[numCells] = start;
+        SYNC_THREADS; // the ticket is read
     }
 }
 
-/** Every particle into a slot of its cell (in whatever order the atomics give: dpdSortCells fixes it). */
-KERNEL void dpdScatterParticles(int numAtoms, GLOBAL const int* RESTRICT cellOf, GLOBAL int* RESTRICT cellCursor,
-                                GLOBAL int* RESTRICT cellAtoms) {
-    for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE)
-        cellAtoms[ATOMIC_ADD(&cellCursor[cellOf[i]], 1)] = i;
-}
-
-/** Each cell's particles in the order of their System indices (an insertion sort: cells hold a few). */
-KERNEL void dpdSortCells(int numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL int* RESTRICT cellAtoms,
-                         GLOBAL const int* RESTRICT atomIndex) {
-    for (int cell = GLOBAL_ID; cell < numCells; cell += GLOBAL_SIZE) {
+/**
+ * Every particle into a slot of its cell, each cell's particles then in the order of their System
+ * indices.  The atomics place them in whatever order the threads run; the thread that places a cell's
+ * last particle (the cell's count, left at zero by the scan, counted up again here after each placement
+ * is fenced) sorts the cell, an insertion sort as cells hold a few, and puts its count back to zero for
+ * the next build's dpdLocateParticles.  No thread waits for another, and no launch sorts the cells.
+ * cellAtoms is read through a volatile pointer: another multiprocessor wrote the slots, and a cache line
+ * a neighbouring cell's sort brought into this one's L1 may predate that.
+ */
+KERNEL void dpdScatterParticles(int numAtoms, GLOBAL const int* RESTRICT cellOf, GLOBAL const int* RESTRICT cellStart,
+                                GLOBAL int* RESTRICT cellCursor, GLOBAL int* RESTRICT cellCount, GLOBAL volatile int* cellAtoms,
+                                GLOBAL const int* RESTRICT atomIndex) {
+    for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
+        int cell = cellOf[i];
+        cellAtoms[ATOMIC_ADD(&cellCursor[cell], 1)] = i;
+        DPD_GLOBAL_FENCE;
         int begin = cellStart[cell], end = cellStart[cell+1];
+        if (ATOMIC_ADD(&cellCount[cell], 1) != end-begin-1)
+            continue;
+        DPD_GLOBAL_FENCE; // every other placement in this cell came before its count, so before this read
         for (int slot = begin+1; slot < end; slot++) {
             int atom = cellAtoms[slot];
             int key = atomIndex[atom];
@@ -198,5 +207,6 @@ KERNEL void dpdSortCells(int numCells, GLOBAL const int* RESTRICT cellStart, GLO
             }
             cellAtoms[k+1] = atom;
         }
+        cellCount[cell] = 0;
     }
 }

@@ -1,5 +1,5 @@
 /*
- * The schedule of the successive sweep's blocks (dpdSweepColours, CommonDPDSweepSchedule): all the
+ * The schedule of the successive sweep's blocks (dpdSweepColours, CommonDPDTicketSchedule): all the
  * colours in one launch, with the bits of one launch a colour.
  *
  * The sweep's order is colour after colour (in turns 0..7: the colour itself, or 7 - colour when the
@@ -11,20 +11,9 @@
  * later neighbours wait for it.  No launch boundary is needed between the colours, only these waits.
  *
  * Work-groups take items (DPD_SWEEP_BLOCKS consecutive blocks of one colour) by ticket, in the order
- * turn by turn, from an atomic counter.  A work-group waits only for blocks of smaller tickets, which
- * work-groups that are already running took, so the waits always end, however many work-groups the
- * device runs at once (one included).  The last ticket of a launch puts the counter back to zero.
- * Each block, once swept and its velocities written, sets its flag to the launch's epoch, a number
- * the host counts up every launch, so the flags need no clearing between launches.
+ * turn by turn (dpdTickets.cc), and wait only for blocks of smaller tickets.  Each block, once swept
+ * and its velocities written, sets its flag to the launch's epoch.
  */
-
-#if defined(__OPENCL_VERSION__)
-#define DPD_GLOBAL_FENCE mem_fence(CLK_GLOBAL_MEM_FENCE)
-#define DPD_ATOMIC_EXCHANGE(destination, value) atomic_xchg(destination, value)
-#else
-#define DPD_GLOBAL_FENCE __threadfence()
-#define DPD_ATOMIC_EXCHANGE(destination, value) atomicExch(destination, value)
-#endif
 
 /** Whether a colour has blocks: none with a parity bit set along an axis of one block (CommonDPDCellGrid::Layout::colourIsUsed). */
 DEVICE int dpdColourIsUsed(int colour, int4 numBlocks) {
@@ -55,22 +44,6 @@ DEVICE int dpdUsedColoursInTurns(int firstTurn, int numTurns, int reversed, int4
     return count;
 }
 
-/**
- * The next item for this work-group: lane 0 takes a ticket and shares it through `taken`.  Every lane
- * calls it, after the work-group has finished reading the previous ticket.  The launch's last ticket
- * (every work-group takes one past the items, to learn there are no more) resets the counter.
- */
-DEVICE int dpdTakeTicket(GLOBAL int* RESTRICT tickets, int numItems, LOCAL_ARG int* taken) {
-    if (LOCAL_ID == 0) {
-        int ticket = ATOMIC_ADD(&tickets[0], 1);
-        if (ticket == numItems+(int) NUM_GROUPS-1)
-            DPD_ATOMIC_EXCHANGE(&tickets[0], 0);
-        *taken = ticket;
-    }
-    SYNC_THREADS;
-    return *taken;
-}
-
 /** A block's number in the flags: x fastest. */
 DEVICE int dpdBlockIndex(int bx, int by, int bz, int4 numBlocks) {
     return bx+numBlocks.x*(by+numBlocks.y*bz);
@@ -81,9 +54,8 @@ DEVICE int dpdBlockIndex(int bx, int by, int bz, int4 numBlocks) {
  * (k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1) if that neighbour's turn is in [firstTurn, turn): swept earlier
  * in this launch (one of an earlier launch was finished when this one began).  An axis of one block
  * has no neighbours along it; with two, both offsets name the same block.  The work-group polls until
- * every watched flag holds the epoch, all its lanes in one loop with a barrier each pass (no lane spins
- * alone while the others wait at a barrier, which not every OpenCL compiler keeps apart: pocl lost a
- * block's sums that way), then fences, so that what the neighbours wrote is what the block reads.
+ * every watched flag holds the epoch (dpdAnyLaneWaits), then fences, so that what the neighbours wrote
+ * is what the block reads.
  */
 DEVICE void dpdWaitForEarlierNeighbours(int active, int bx, int by, int bz, int4 numBlocks, int turn, int firstTurn, int reversed,
                                         GLOBAL int* RESTRICT blockSwept, int epoch, LOCAL_ARG int* stillWaiting) {
@@ -97,19 +69,8 @@ DEVICE void dpdWaitForEarlierNeighbours(int active, int bx, int by, int bz, int4
         if (neighbourTurn >= firstTurn && neighbourTurn < turn)
             flag = &blockSwept[dpdBlockIndex(nx, ny, nz, numBlocks)];
     }
-    for (;;) {
-        int waiting = flag != 0 && ATOMIC_ADD(flag, 0) != epoch;
-        if (LOCAL_ID == 0)
-            *stillWaiting = 0;
-        SYNC_THREADS;
-        if (waiting)
-            *stillWaiting = 1;
-        SYNC_THREADS;
-        int again = *stillWaiting;
-        SYNC_THREADS; // read before the next pass clears it
-        if (!again)
-            break;
-    }
+    while (dpdAnyLaneWaits(flag != 0 && ATOMIC_ADD(flag, 0) != epoch, stillWaiting))
+        ;
     DPD_GLOBAL_FENCE;
 }
 
