@@ -218,6 +218,9 @@ class StepModel:
     sweeps_per_step: int
     seconds: float
     critical_rounds_at_once: Dict[int, int]  # the critical path with 2 and 4 blocks a work-group (OPENMMDPD_GPU_SWEEP_BLOCKS)
+    # The critical path with a work-group for every block of a colour: the waits between neighbours alone,
+    # what no number of blocks in flight can shorten without another pair order (which changes the bits).
+    critical_rounds_every_block_in_flight: int
 
 
 def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu) -> StepModel:
@@ -231,7 +234,9 @@ def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: 
         # The sweep takes the longer of its bytes and its critical path (its latency), each of its sweeps a step.
         seconds += max(memory, per_step * sweep.critical_seconds) if name == SWEEP_KERNEL else memory
     at_once = {s: per_step * sweep_cost(sweeps[-1], gpu, s).critical_rounds for s in (2, 4)}
-    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once)
+    every_block = max(len(colour["rounds"]) for colour in sweeps[-1]["colours"])
+    in_flight = per_step * int(one_launch_schedule(sweeps[-1], every_block, 1, lambda entry, b: entry["rounds"][b]))
+    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once, in_flight)
 
 
 def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optional[Dict[int, float]] = None) -> List[str]:
@@ -241,9 +246,10 @@ def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optio
              f"{CYCLES_PER_BLOCK} a block.  Bench scene: rho = 3, gamma = 4.5, dt = 0.04, mixed precision.", "",
              "| N | launches/step | bytes/particle-step (model) | sweep: blocks a work-group sweeps in turn | rounds/block "
              "| pairs/block | critical path, dependent updates a step, all colours in one launch: rounds (lane 0's chain before them) "
-             "| a launch a colour | with 2, 4 blocks a work-group side by side, one launch (OPENMMDPD_GPU_SWEEP_BLOCKS; 4 holds 12 particles a region locally, so every region takes the global path) | expected time/step | expected particle-steps/s "
+             "| a launch a colour | with 2, 4 blocks a work-group side by side, one launch (OPENMMDPD_GPU_SWEEP_BLOCKS; 4 holds 12 particles a region locally, so every region takes the global path) "
+             "| every block in flight (the waits alone: the least this pair order allows) | expected time/step | expected particle-steps/s "
              "| measured time/step |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for m in models:
         total_bytes = sum(m.bytes_per_particle.values())
         measured_text = f"{1e6 * measured[m.n]:.0f} µs" if measured and m.n in measured else "no GPU lent"
@@ -251,7 +257,8 @@ def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optio
                      f"{m.sweep.rounds_per_block:.1f} | {m.sweep.pairs_per_block:.0f} | "
                      f"{m.sweeps_per_step * m.sweep.critical_rounds} ({m.sweeps_per_step * m.sweep.critical_chain}) | "
                      f"{m.sweeps_per_step * m.sweep.colour_by_colour_rounds} | "
-                     f"{m.critical_rounds_at_once[2]}, {m.critical_rounds_at_once[4]} | {1e6 * m.seconds:.0f} µs | {m.n / m.seconds:.3g} | "
+                     f"{m.critical_rounds_at_once[2]}, {m.critical_rounds_at_once[4]} | "
+                     f"{m.critical_rounds_every_block_in_flight} | {1e6 * m.seconds:.0f} µs | {m.n / m.seconds:.3g} | "
                      f"{measured_text} |")
     lines += ["", "Per kernel (launches a step; bytes per particle a step, model):", ""]
     for m in models:
