@@ -218,7 +218,7 @@ class StepModel:
     sweeps_per_step: int
     seconds: float
     critical_rounds_at_once: Dict[int, int]  # the critical path with 2 and 4 blocks a work-group (OPENMMDPD_GPU_SWEEP_BLOCKS)
-    # The critical path with a work-group for every block of a colour: the waits between neighbours alone,
+    # The critical path with a work-group for every block of the sweep: the waits between neighbours alone,
     # what no number of blocks in flight can shorten without another pair order (which changes the bits).
     critical_rounds_every_block_in_flight: int
 
@@ -234,7 +234,7 @@ def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: 
         # The sweep takes the longer of its bytes and its critical path (its latency), each of its sweeps a step.
         seconds += max(memory, per_step * sweep.critical_seconds) if name == SWEEP_KERNEL else memory
     at_once = {s: per_step * sweep_cost(sweeps[-1], gpu, s).critical_rounds for s in (2, 4)}
-    every_block = max(len(colour["rounds"]) for colour in sweeps[-1]["colours"])
+    every_block = sum(len(colour["rounds"]) for colour in sweeps[-1]["colours"])  # a work-group each: none ever waits for one
     in_flight = per_step * int(one_launch_schedule(sweeps[-1], every_block, 1, lambda entry, b: entry["rounds"][b]))
     return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once, in_flight)
 
