@@ -149,15 +149,14 @@ KERNEL void dpdScanCellCounts(int numCells, int numTiles, GLOBAL int* RESTRICT t
         int start = dpdExclusiveScanOfLanes(total, sums, LOCAL_ID, LOCAL_SIZE);
         if (LOCAL_ID == DPD_SCAN_SIZE-1) {
             DPD_ATOMIC_EXCHANGE(&tileSum[tile], start+total);
-            DPD_GLOBAL_FENCE;
-            DPD_ATOMIC_EXCHANGE(&tilePublished[tile], epoch);
+            dpdPublishDone(&tilePublished[tile], epoch);
         }
         // The tiles before this one: lane k watches tiles k, k + DPD_SCAN_SIZE, ...
         int unpublished;
         do {
             unpublished = 0;
             for (int k = LOCAL_ID; k < tile; k += DPD_SCAN_SIZE)
-                unpublished |= ATOMIC_ADD(&tilePublished[k], 0) != epoch;
+                unpublished |= !dpdIsDone(&tilePublished[k], epoch);
         } while (dpdAnyLaneWaits(unpublished, &stillWaiting));
         DPD_GLOBAL_FENCE;
         int earlier = 0;

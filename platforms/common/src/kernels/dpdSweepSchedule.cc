@@ -69,7 +69,7 @@ DEVICE void dpdWaitForEarlierNeighbours(int active, int bx, int by, int bz, int4
         if (neighbourTurn >= firstTurn && neighbourTurn < turn)
             flag = &blockSwept[dpdBlockIndex(nx, ny, nz, numBlocks)];
     }
-    while (dpdAnyLaneWaits(flag != 0 && ATOMIC_ADD(flag, 0) != epoch, stillWaiting))
+    while (dpdAnyLaneWaits(flag != 0 && !dpdIsDone(flag, epoch), stillWaiting))
         ;
     DPD_GLOBAL_FENCE;
 }
@@ -83,8 +83,7 @@ DEVICE void dpdMarkBlockSwept(int active, int bx, int by, int bz, int4 numBlocks
     DPD_GLOBAL_FENCE;
     SYNC_THREADS;
     if (DPD_SWEEP_LANE == 0) {
-        DPD_GLOBAL_FENCE;
         int flag = active ? dpdBlockIndex(bx, by, bz, numBlocks) : numBlocks.x*numBlocks.y*numBlocks.z+DPD_SWEEP_SLICE;
-        DPD_ATOMIC_EXCHANGE(&blockSwept[flag], epoch);
+        dpdPublishDone(&blockSwept[flag], epoch);
     }
 }

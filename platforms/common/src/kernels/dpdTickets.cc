@@ -47,3 +47,14 @@ DEVICE int dpdAnyLaneWaits(int waiting, LOCAL_ARG int* stillWaiting) {
     SYNC_THREADS; // read before the next pass clears it
     return again;
 }
+
+/** Publish an item done: what this thread wrote before is visible to whoever then sees the flag hold the epoch. */
+DEVICE void dpdPublishDone(GLOBAL int* flag, int epoch) {
+    DPD_GLOBAL_FENCE;
+    DPD_ATOMIC_EXCHANGE(flag, epoch);
+}
+
+/** Whether an item's flag says it is done in this launch (an atomic read: no cache may hold an old value). */
+DEVICE int dpdIsDone(GLOBAL int* flag, int epoch) {
+    return ATOMIC_ADD(flag, 0) == epoch;
+}
