@@ -19,6 +19,13 @@ What is counted, and what is assumed:
   792 on an H200).  Beside it, a launch a colour (OPENMMDPD_GPU_SWEEP_LAUNCHES=colours): per colour
   the largest, over the work-groups, of the rounds of the blocks it sweeps in turn (block b of a colour
   to work-group b mod 792), summed over the colours.  Both summed over the sweeps of a step.
+- **What the pair order allows** is emulated (gpu_sweep_order.py, checked block by block against the
+  profile by tests/python/test_gpu_cost_model.py): from the bench scene's starting positions, the same
+  pairs in the same order, scheduled three ways that all give the sweep's bits: as today (a block after
+  its whole neighbours of earlier colours, every block in flight: beside the profile's figure, a check);
+  each pair after the earlier pairs of its own two particles, in whichever block (not built), with
+  OpenMM's work-groups and with every block in flight; and the order's longest chain of dependent pairs,
+  the least any schedule of these bits can take.
 - **Bytes** are a model: what each kernel must move per particle (or per cell) in mixed precision, each
   array read or written once (KERNEL_BYTES says which arrays); the sweep reads every particle of each
   block's region and writes the velocities back, so its bytes scale with the region's size.  Caches can
@@ -51,6 +58,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, os.pardir, "tools", "opencl-probe"))
 sys.path.insert(0, HERE)
 from bench_gpu import build_opencl_counter, make_context  # noqa: E402  (the benchmark's scene and counter)
+import gpu_sweep_order  # noqa: E402
 
 
 @dataclass(frozen=True)
@@ -219,8 +227,33 @@ class StepModel:
     seconds: float
     critical_rounds_at_once: Dict[int, int]  # the critical path with 2 and 4 blocks a work-group (OPENMMDPD_GPU_SWEEP_BLOCKS)
     # The critical path with a work-group for every block of the sweep: the waits between neighbours alone,
-    # what no number of blocks in flight can shorten without another pair order (which changes the bits).
+    # what no number of blocks in flight can shorten while a block waits for whole neighbours.
     critical_rounds_every_block_in_flight: int
+    order: "OrderBounds"
+
+
+@dataclass
+class OrderBounds:
+    """What the sweep's pair order allows (gpu_sweep_order.py, emulated from the bench scene's starting
+    positions), in dependent updates a step: the same bits, other ways of waiting."""
+
+    whole_blocks_every_block_in_flight: int  # today's waits, emulated: the check against the profile's
+    particle_waits: int  # each pair after the earlier pairs of its two particles, OpenMM's work-groups
+    particle_waits_every_block_in_flight: int
+    longest_chain: int  # no barrier at all: the least any schedule of these bits takes
+
+
+def order_bounds(n: int, gpu: TargetGpu, sweeps_per_step: int) -> OrderBounds:
+    import numpy as np
+
+    import openmmdpd as dpd
+
+    system, positions = dpd.soft_fluid(n, 3.0, seed=1)  # the bench scene's (bench_gpu.make_context)
+    box = [system.getDefaultPeriodicBoxVectors()[k][k].value_in_unit(positions.unit) for k in range(3)]
+    order = gpu_sweep_order.sweep_order(np.asarray(positions.value_in_unit(positions.unit)), box, 1.0)
+    return OrderBounds(*(sweeps_per_step * value for value in (
+        gpu_sweep_order.whole_block_waits(order), gpu_sweep_order.particle_waits(order, gpu.concurrent_work_groups),
+        gpu_sweep_order.particle_waits(order), gpu_sweep_order.particle_waits(order, None, buffer_barriers=False))))
 
 
 def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu) -> StepModel:
@@ -236,7 +269,7 @@ def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: 
     at_once = {s: per_step * sweep_cost(sweeps[-1], gpu, s).critical_rounds for s in (2, 4)}
     every_block = sum(len(colour["rounds"]) for colour in sweeps[-1]["colours"])  # a work-group each: none ever waits for one
     in_flight = per_step * int(one_launch_schedule(sweeps[-1], every_block, 1, lambda entry, b: entry["rounds"][b]))
-    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once, in_flight)
+    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once, in_flight, order_bounds(n, gpu, per_step))
 
 
 def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optional[Dict[int, float]] = None) -> List[str]:
@@ -247,9 +280,10 @@ def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optio
              "| N | launches/step | bytes/particle-step (model) | sweep: blocks a work-group sweeps in turn | rounds/block "
              "| pairs/block | critical path, dependent updates a step, all colours in one launch: rounds (lane 0's chain before them) "
              "| a launch a colour | with 2, 4 blocks a work-group side by side, one launch (OPENMMDPD_GPU_SWEEP_BLOCKS; 4 holds 12 particles a region locally, so every region takes the global path) "
-             "| every block in flight (the waits alone: the least this pair order allows) | expected time/step | expected particle-steps/s "
-             "| measured time/step |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "| every block in flight, each after its whole neighbours (the emulated order's) "
+             f"| each pair after its own particles' earlier pairs, {gpu.concurrent_work_groups} work-groups (every block in flight) "
+             "| the pair order's longest chain | expected time/step | expected particle-steps/s | measured time/step |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for m in models:
         total_bytes = sum(m.bytes_per_particle.values())
         measured_text = f"{1e6 * measured[m.n]:.0f} µs" if measured and m.n in measured else "no GPU lent"
@@ -258,7 +292,9 @@ def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optio
                      f"{m.sweeps_per_step * m.sweep.critical_rounds} ({m.sweeps_per_step * m.sweep.critical_chain}) | "
                      f"{m.sweeps_per_step * m.sweep.colour_by_colour_rounds} | "
                      f"{m.critical_rounds_at_once[2]}, {m.critical_rounds_at_once[4]} | "
-                     f"{m.critical_rounds_every_block_in_flight} | {1e6 * m.seconds:.0f} µs | {m.n / m.seconds:.3g} | "
+                     f"{m.critical_rounds_every_block_in_flight} ({m.order.whole_blocks_every_block_in_flight}) | "
+                     f"{m.order.particle_waits} ({m.order.particle_waits_every_block_in_flight}) | {m.order.longest_chain} | "
+                     f"{1e6 * m.seconds:.0f} µs | {m.n / m.seconds:.3g} | "
                      f"{measured_text} |")
     lines += ["", "Per kernel (launches a step; bytes per particle a step, model):", ""]
     for m in models:

@@ -90,3 +90,43 @@ def test_the_profile_of_a_real_sweep_has_far_fewer_rounds_than_pairs():
     assert cost.blocks_in_turn == 1  # 64 blocks, 8 a colour, against the H200's 792 work-groups
     # In one launch no block waits longer than for its neighbours: never more than a launch a colour.
     assert cost.critical_rounds <= cost.colour_by_colour_rounds
+
+
+@pytest.mark.gpu
+def test_the_emulated_sweep_order_takes_every_blocks_rounds_pairs_and_candidates_as_the_sweep(tmp_path, monkeypatch):
+    # The cost model's per-particle schedules (gpu_sweep_order.py) rest on an emulation of the sweep's pair
+    # order from the positions.  With the velocities zero, an ABOBA step's first drift leaves the positions
+    # as they were, so its sweep sees them exactly: every block of the emulation must then take the pairs,
+    # candidates and rounds the sweep's profile records (2572 particles: 9 cells a side, some blocks 3 cells
+    # wide, whose buffers are applied more than once, so the buffer's size and rule count too).
+    import numpy as np
+
+    import openmmdpd as dpd
+    import gpu_sweep_order as order_model
+
+    names = [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
+    if "OpenCL" not in names:
+        pytest.skip("OpenMM has no OpenCL platform here")
+    system, positions = dpd.soft_fluid(2572, 3.0, seed=3)
+    positions = np.asarray(positions.value_in_unit(positions.unit))
+    profile = tmp_path / "profile.jsonl"
+    monkeypatch.setenv("OPENMMDPD_GPU_SWEEP_PROFILE", str(profile))
+    integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 1.0, 0.04, "ABOBA")
+    integrator.setRandomNumberSeed(1)
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName("OpenCL"), {"Precision": "double"})
+    context.setPositions(positions)
+    integrator.step(1)
+    sweep = model.json.loads(profile.read_text().splitlines()[0])
+    box = [system.getDefaultPeriodicBoxVectors()[k][k].value_in_unit(mm.unit.nanometer) for k in range(3)]
+    emulated = order_model.sweep_order(positions, box, 1.0)
+    assert emulated.cells == sweep["cells"] and emulated.blocks == sweep["blocks"]
+    recorded = {(entry["colour"], b): (entry["rounds"][b], entry["pairs"][b], entry["candidates"][b])
+                for entry in sweep["colours"] for b in range(len(entry["rounds"]))}
+    ours = {(block.colour, block.number): (block.rounds(), len(block.pair_i), block.candidates) for block in emulated.swept}
+    assert ours == recorded
+    assert max(len(block.buffer_applications()) for block in emulated.swept) > 1
+    # Each pair waiting for its own particles can only be quicker than whole blocks waiting for neighbours,
+    # and the order's longest chain quicker still.
+    chain = order_model.particle_waits(emulated, None, buffer_barriers=False)
+    assert chain <= order_model.particle_waits(emulated) <= order_model.whole_block_waits(emulated)
+    assert order_model.whole_block_waits(emulated) == model.one_launch_schedule(sweep, 10**6, 1, lambda entry, b: entry["rounds"][b])
