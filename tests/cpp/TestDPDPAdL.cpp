@@ -153,14 +153,20 @@ TEST(PAdL, TheFeedbackPullsAFluidStarted30PercentHotBack) {
     // Velocities scaled by sqrt(1.3): the pairs' relative kinetic energy exceeds kT/m_ij, so D raises
     // xi above gamma (more friction) until the fluid is back at the target; then xi returns towards
     // gamma.  Measured over the first 100 steps: the largest xi well above gamma; after 2000 steps
-    // T_kin within 5 % of the target.
+    // T_kin within 5 % of the target.  The equilibrated snapshot's own T_kin is one draw: with 300
+    // particles its relative spread is sqrt(2/(3N - 3)) = 0.047 (seen: 1.000 on one machine, 1.080 on
+    // another, whose vector unit gives the CPU platform other bits), so the start is checked as 1.3
+    // times that draw, to round-off, and the draw within 5 of its standard deviations of the target.
     const double gamma = 4.5;
     EquilibratedFluid start = equilibratedSoftFluid(300);
-    for (Vec3& v : start.velocities)
-        v *= std::sqrt(1.3);
     auto integrator = makePAdL(gamma, 0.02, 2.0, 11);
     auto context = makeContext(start, *integrator, "CPU");
-    EXPECT_NEAR(DPDObservables::kineticTemperature(*context)/reducedTemperature, 1.3, 0.1);
+    double equilibrated = DPDObservables::kineticTemperature(*context)/reducedTemperature;
+    EXPECT_NEAR(equilibrated, 1.0, 5*std::sqrt(2.0/(3*300-3)));
+    for (Vec3& v : start.velocities)
+        v *= std::sqrt(1.3);
+    context->setVelocities(start.velocities);
+    EXPECT_NEAR(DPDObservables::kineticTemperature(*context)/reducedTemperature, 1.3*equilibrated, 1e-12);
     double largest = gamma;
     for (int k = 0; k < 100; k++) {
         integrator->step(1);
