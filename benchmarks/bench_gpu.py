@@ -18,7 +18,7 @@ After the timings, where the OpenCL platform runs (pocl too), it prints the cost
 time expected of an H200), with ABOBA's measured time beside it where a GPU was timed.
 
 Usage: python benchmarks/bench_gpu.py [--sizes N ...] [--rounds R] [--seconds S] [--platforms P ...]
-       [--max-seconds S] [--out FILE.md] [--model-sizes N ...] [--no-model] [--baseline DIR]
+       [--max-seconds S] [--out FILE.md] [--model-sizes N ...] [--no-model] [--no-order-bounds] [--baseline DIR]
 """
 
 from __future__ import annotations
@@ -212,6 +212,9 @@ def main() -> None:
     parser.add_argument("--model-sizes", type=int, nargs="+", default=[10_000, 100_000, 1_000_000],
                         help="the sizes of the cost model (benchmarks/gpu_cost_model.py)")
     parser.add_argument("--no-model", action="store_true", help="leave out the cost model")
+    parser.add_argument("--no-order-bounds", action="store_true",
+                        help="leave out the cost model's pair-order bounds (gpu_sweep_order.py: a minute of Python at "
+                             "N = 10^6, the same on any machine)")
     parser.add_argument("--baseline", default=None, metavar="DIR",
                         help="also time ABOBA of the openmmdpd installed in DIR (pip install --target DIR), interleaved")
     args = parser.parse_args()
@@ -282,7 +285,7 @@ def main() -> None:
         measured = {n: statistics.median(r["seconds_per_step"] for r in runs) for (method, n), runs in gpu_samples.items()
                     if method == "ABOBA"}
         models = [gpu_cost_model.model_step(n, gpu_cost_model.launches_per_step(counter, n), gpu_cost_model.sweep_profile(n, "OpenCL"),
-                                            gpu_cost_model.H200) for n in args.model_sizes]
+                                            gpu_cost_model.H200, not args.no_order_bounds) for n in args.model_sizes]
         sections.append(gpu_cost_model.report(models, gpu_cost_model.H200, "OpenCL", measured))
     print(report(final=True))
 

@@ -229,7 +229,7 @@ class StepModel:
     # The critical path with a work-group for every block of the sweep: the waits between neighbours alone,
     # what no number of blocks in flight can shorten while a block waits for whole neighbours.
     critical_rounds_every_block_in_flight: int
-    order: "OrderBounds"
+    order: Optional["OrderBounds"]  # None where left out (bench_gpu.py --no-order-bounds)
 
 
 @dataclass
@@ -256,7 +256,7 @@ def order_bounds(n: int, gpu: TargetGpu, sweeps_per_step: int) -> OrderBounds:
         gpu_sweep_order.particle_waits(order), gpu_sweep_order.particle_waits(order, None, buffer_barriers=False))))
 
 
-def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu) -> StepModel:
+def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu, with_order_bounds: bool = True) -> StepModel:
     sweep = sweep_cost(sweeps[-1], gpu)
     per_step = len(sweeps) // 2  # two steps were profiled
     bytes_per_particle = {name: KERNEL_BYTES.get(name, 0.0) * count for name, count in launches.items() if name != SWEEP_KERNEL}
@@ -269,7 +269,8 @@ def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: 
     at_once = {s: per_step * sweep_cost(sweeps[-1], gpu, s).critical_rounds for s in (2, 4)}
     every_block = sum(len(colour["rounds"]) for colour in sweeps[-1]["colours"])  # a work-group each: none ever waits for one
     in_flight = per_step * int(one_launch_schedule(sweeps[-1], every_block, 1, lambda entry, b: entry["rounds"][b]))
-    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once, in_flight, order_bounds(n, gpu, per_step))
+    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once, in_flight,
+                     order_bounds(n, gpu, per_step) if with_order_bounds else None)
 
 
 def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optional[Dict[int, float]] = None) -> List[str]:
@@ -292,8 +293,9 @@ def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optio
                      f"{m.sweeps_per_step * m.sweep.critical_rounds} ({m.sweeps_per_step * m.sweep.critical_chain}) | "
                      f"{m.sweeps_per_step * m.sweep.colour_by_colour_rounds} | "
                      f"{m.critical_rounds_at_once[2]}, {m.critical_rounds_at_once[4]} | "
-                     f"{m.critical_rounds_every_block_in_flight} ({m.order.whole_blocks_every_block_in_flight}) | "
-                     f"{m.order.particle_waits} ({m.order.particle_waits_every_block_in_flight}) | {m.order.longest_chain} | "
+                     f"{m.critical_rounds_every_block_in_flight} ({m.order.whole_blocks_every_block_in_flight if m.order else '-'}) | "
+                     + (f"{m.order.particle_waits} ({m.order.particle_waits_every_block_in_flight}) | {m.order.longest_chain} | "
+                        if m.order else "left out | left out | ") +
                      f"{1e6 * m.seconds:.0f} µs | {m.n / m.seconds:.3g} | "
                      f"{measured_text} |")
     lines += ["", "Per kernel (launches a step; bytes per particle a step, model):", ""]
