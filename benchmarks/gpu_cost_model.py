@@ -131,10 +131,7 @@ def launches_per_step(counter: str, n: int, steps: int = 4) -> Dict[str, float]:
 
 def block_coordinates(sweep: dict, colour: int, b: int) -> Tuple[int, int, int]:
     """Block b of a colour in the block grid, as dpdSweepColours places it."""
-    blocks = sweep["blocks"]
-    half = [1 if n == 1 else n // 2 for n in blocks]
-    index = (b % half[0], (b // half[0]) % half[1], b // (half[0] * half[1]))
-    return tuple(0 if blocks[k] == 1 else 2 * index[k] + ((colour >> k) & 1) for k in range(3))  # type: ignore[return-value]
+    return gpu_sweep_order.block_of_colour(sweep["blocks"], colour, b)
 
 
 def one_launch_schedule(sweep: dict, groups: int, blocks_at_once: int, duration: Callable[[dict, int], float]) -> float:
@@ -251,8 +248,10 @@ def order_bounds(n: int, gpu: TargetGpu, sweeps_per_step: int) -> OrderBounds:
     system, positions = dpd.soft_fluid(n, 3.0, seed=1)  # the bench scene's (bench_gpu.make_context)
     box = [system.getDefaultPeriodicBoxVectors()[k][k].value_in_unit(positions.unit) for k in range(3)]
     order = gpu_sweep_order.sweep_order(np.asarray(positions.value_in_unit(positions.unit)), box, 1.0)
-    return OrderBounds(*(sweeps_per_step * value for value in (
-        gpu_sweep_order.whole_block_waits(order), gpu_sweep_order.particle_waits(order, gpu.concurrent_work_groups),
+    every_block = len(order.swept)  # a work-group each
+    whole_blocks = one_launch_schedule(gpu_sweep_order.as_profile(order), every_block, 1, lambda entry, b: entry["rounds"][b])
+    return OrderBounds(*(sweeps_per_step * int(value) for value in (
+        whole_blocks, gpu_sweep_order.particle_waits(order, gpu.concurrent_work_groups),
         gpu_sweep_order.particle_waits(order), gpu_sweep_order.particle_waits(order, None, buffer_barriers=False))))
 
 
@@ -288,14 +287,15 @@ def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optio
     for m in models:
         total_bytes = sum(m.bytes_per_particle.values())
         measured_text = f"{1e6 * measured[m.n]:.0f} µs" if measured and m.n in measured else "no GPU lent"
+        emulated, particle_waits, chain = ("-", "left out", "left out") if m.order is None else (
+            m.order.whole_blocks_every_block_in_flight,
+            f"{m.order.particle_waits} ({m.order.particle_waits_every_block_in_flight})", m.order.longest_chain)
         lines.append(f"| {m.n} | {sum(m.launches.values()):.0f} | {total_bytes:.0f} | {m.sweep.blocks_in_turn} | "
                      f"{m.sweep.rounds_per_block:.1f} | {m.sweep.pairs_per_block:.0f} | "
                      f"{m.sweeps_per_step * m.sweep.critical_rounds} ({m.sweeps_per_step * m.sweep.critical_chain}) | "
                      f"{m.sweeps_per_step * m.sweep.colour_by_colour_rounds} | "
                      f"{m.critical_rounds_at_once[2]}, {m.critical_rounds_at_once[4]} | "
-                     f"{m.critical_rounds_every_block_in_flight} ({m.order.whole_blocks_every_block_in_flight if m.order else '-'}) | "
-                     + (f"{m.order.particle_waits} ({m.order.particle_waits_every_block_in_flight}) | {m.order.longest_chain} | "
-                        if m.order else "left out | left out | ") +
+                     f"{m.critical_rounds_every_block_in_flight} ({emulated}) | {particle_waits} | {chain} | "
                      f"{1e6 * m.seconds:.0f} µs | {m.n / m.seconds:.3g} | "
                      f"{measured_text} |")
     lines += ["", "Per kernel (launches a step; bytes per particle a step, model):", ""]

@@ -8,8 +8,9 @@ that order gives the same bits (two pairs that share no particle commute exactly
 decides how short the chain of dependent pair updates can be; how the sweep waits decides how much of
 that it gets:
 
-- waiting for whole blocks (dpdSweepSchedule.cc today): a block starts when every neighbour of an
-  earlier colour is done, and applies its buffer of pairs in rounds (dpdApplyBufferedPairsInRounds, a
+- waiting for whole blocks (dpdSweepSchedule.cc today; gpu_cost_model.one_launch_schedule on
+  as_profile's record): a block starts when every neighbour of an earlier colour is done, and applies
+  its buffer of pairs in rounds (dpdApplyBufferedPairsInRounds, a
   buffer at a time: DPD_SWEEP_PAIRS_PER_LANE x DPD_SWEEP_LANES pairs, applied when it could not take
   another chunk of DPD_SWEEP_LANES candidates' pairs or at the block's last chunk);
 - waiting for each particle (not built): a pair goes as soon as the earlier pairs of its two particles
@@ -45,6 +46,13 @@ def lay_out(box: Sequence[float], radius: float) -> Tuple[List[int], List[int]]:
         b = n // 2
         blocks.append(b if b % 2 == 0 else (1 if b == 1 else b - 1))
     return cells, blocks
+
+
+def block_of_colour(blocks: Sequence[int], colour: int, number: int) -> Tuple[int, int, int]:
+    """Block `number` of a colour in the block grid, as dpdSweepColours places it (x fastest)."""
+    half = [1 if nb == 1 else nb // 2 for nb in blocks]
+    index = (number % half[0], (number // half[0]) % half[1], number // (half[0] * half[1]))
+    return tuple(0 if blocks[a] == 1 else 2 * index[a] + ((colour >> a) & 1) for a in range(3))  # type: ignore[return-value]
 
 
 @dataclass
@@ -181,8 +189,7 @@ def sweep_order(positions: np.ndarray, box: Sequence[float], radius: float) -> S
         if any((colour >> a) & 1 and blocks[a] == 1 for a in range(3)):
             continue  # an unused colour (a single block along that axis)
         for number in range(half[0] * half[1] * half[2]):
-            index = (number % half[0], (number // half[0]) % half[1], number // (half[0] * half[1]))
-            xyz = tuple(0 if blocks[a] == 1 else 2 * index[a] + ((colour >> a) & 1) for a in range(3))
+            xyz = block_of_colour(blocks, colour, number)
             b = xyz[0] + blocks[0] * (xyz[1] + blocks[1] * xyz[2])
             lo, hi = bounds[b], bounds[b + 1]
             swept.append(SweptBlock(colour, number, xyz, pair_i[lo:hi].tolist(), pair_j[lo:hi].tolist(),
@@ -190,32 +197,18 @@ def sweep_order(positions: np.ndarray, box: Sequence[float], radius: float) -> S
     return SweepOrder(cells, blocks, swept, n)
 
 
-def neighbours_of(order: SweepOrder, xyz: Tuple[int, int, int]) -> List[Tuple[int, int, int]]:
-    out = []
-    for dz in (-1, 0, 1):
-        for dy in (-1, 0, 1):
-            for dx in (-1, 0, 1):
-                if (dx, dy, dz) == (0, 0, 0) or any(o != 0 and nb == 1 for o, nb in zip((dx, dy, dz), order.blocks)):
-                    continue
-                out.append(tuple((c + o) % nb for c, o, nb in zip(xyz, (dx, dy, dz), order.blocks)))
-    return out
-
-
-def whole_block_waits(order: SweepOrder, work_groups: Optional[int] = None) -> int:
-    """The sweep's makespan in rounds when a block starts after its work-group is free (the first free of
-    `work_groups` takes the next ticket; None: one each) and after every neighbour of an earlier colour."""
-    free = [0] * (work_groups or 1)
-    finished = {}
-    makespan = 0
+def as_profile(order: SweepOrder) -> dict:
+    """The emulated sweep as OPENMMDPD_GPU_SWEEP_PROFILE records one (CommonDPDSweepProfile): each used
+    colour's blocks' rounds, pairs and candidates, which the cost model's schedules take."""
+    colours: dict = {}
     for block in order.swept:
-        start = heapq.heappop(free) if work_groups else 0
-        start = max([start] + [finished.get(nb, 0) for nb in neighbours_of(order, block.coordinates)])
-        end = start + block.rounds()
-        finished[block.coordinates] = end
-        if work_groups:
-            heapq.heappush(free, end)
-        makespan = max(makespan, end)
-    return makespan
+        entry = colours.setdefault(block.colour, {"colour": block.colour, "rounds": [], "pairs": [], "candidates": []})
+        entry["rounds"].append(block.rounds())
+        entry["pairs"].append(len(block.pair_i))
+        entry["candidates"].append(block.candidates)
+    blocks_per_colour = max(len(entry["rounds"]) for entry in colours.values())
+    return {"mode": "O", "reversed": False, "cells": order.cells, "blocks": order.blocks, "blocksPerColour": blocks_per_colour,
+            "colours": list(colours.values())}
 
 
 def particle_waits(order: SweepOrder, work_groups: Optional[int] = None, buffer_barriers: bool = True) -> int:
