@@ -147,6 +147,7 @@ def test_colour_drift_response_is_the_integrators():
     scene = load_transport_scene(SCENE)
     system, positions = scene.fluid.build(128, 3)
     integrator = dpd.DPDIntegrator(dpd.REDUCED_TEMPERATURE, 4.5, 2.5, 0.01, "ABOBA")
+    integrator.setRandomNumberSeed(5)  # a fixed seed (0 would draw one): the same run every time
     integrator.setNEMD(dpd.ColourDrift(), 0.0)
     context = mm.Context(system, integrator, mm.Platform.getPlatformByName("Reference"))
     context.setPositions(positions)
@@ -154,7 +155,12 @@ def test_colour_drift_response_is_the_integrators():
     for _ in range(3):
         integrator.step(2)
         velocities = context.getState(getVelocities=True).getVelocities(asNumpy=True).value_in_unit(mm.unit.nanometer / mm.unit.picosecond)
-        assert colour_drift_response(velocities) == pytest.approx(integrator.getTransportStatistics().last_response, rel=1e-12, abs=1e-15)
+        # R cancels terms of order 1 down to about 1e-4, and the two sides sum them in different orders:
+        # they agree to the round-off bound of a sum of N terms, N eps sum_i |v_x,i| / sqrt(N) (about
+        # 2.5e-13 here; seen: 1.1e-15, which a relative 1e-12 of R refused in one unseeded run).
+        vx = velocities[:, 0]
+        round_off = len(vx) * np.finfo(float).eps * np.abs(vx).sum() / np.sqrt(len(vx))
+        assert colour_drift_response(velocities) == pytest.approx(integrator.getTransportStatistics().last_response, rel=0, abs=round_off)
 
 
 def test_a_norton_run_holds_its_response_and_a_nemd_run_reports_its_forcing():
