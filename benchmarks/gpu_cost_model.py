@@ -94,7 +94,9 @@ KERNEL_BYTES: Dict[str, float] = {
     "dpdLocateParticles": 32 + 4 + 2,  # read q, write the cell, count it
     "dpdScanCellCounts": 4,  # a cell: its count read and cleared, its first slot and cursor written (16 B, ~4 particles)
     "dpdScatterParticles": 4 + 4 + 4 + 4 + 4,  # the cell, its slot (cursor), the atom written, its count; the sort: atomIndex
-    "dpdConservativeForces": 32 + 4 + 4 + 4 + 24,  # q (neighbours from cache), cells, atomIndex, types, write F
+    "dpdConservativeForces": 32 + 4 + 4 + 4 + 24,  # (with the virial) q (neighbours from cache), cells, atomIndex, types, write F
+    # Each pair once: the same reads, and F read and written by 64-bit atomics (the partners' in L2, not counted).
+    "dpdConservativeForcesOverHalfStencils": 32 + 4 + 4 + 4 + 4 + 24 + 24,
     "reduceForces": 24 + 24,
     "dpdKick": 32 + 24 + 32,
 }

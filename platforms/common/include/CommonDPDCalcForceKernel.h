@@ -43,7 +43,7 @@ private:
     void uploadParameters(const DPDTypePairTable::Compiled& compiled);
     OpenMM::ComputeContext& cc;
     std::unique_ptr<CommonDPDCellGrid> grid;
-    CommonDPDKernel forceKernel;
+    CommonDPDKernel halfStencilKernel, gatherKernel; // dpdConservativeForce.cc: without the virial, with it
     OpenMM::ComputeArray typeOf, repulsion, cutoff, virialRows;
     bool computeVirial = false;
     DPDTypePairTable::Compiled parameters;

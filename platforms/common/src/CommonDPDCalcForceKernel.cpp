@@ -13,7 +13,8 @@ void CommonDPDCalcForceKernel::initialize(const OpenMM::System& system, const DP
     OpenMM::ContextSelector selector(cc);
     OpenMM::ComputeProgram program = CommonDPDProgram::compile(cc, "DPDForce");
     grid = std::make_unique<CommonDPDCellGrid>(cc, program);
-    forceKernel = CommonDPDKernel(program, "dpdConservativeForces");
+    halfStencilKernel = CommonDPDKernel(program, "dpdConservativeForcesOverHalfStencils");
+    gatherKernel = CommonDPDKernel(program, "dpdConservativeForces");
     parameters = force.getTable().compile(system.getNumParticles());
     typeOf.initialize<int>(cc, system.getNumParticles(), "dpdForceTypes");
     uploadParameters(parameters);
@@ -58,10 +59,17 @@ double CommonDPDCalcForceKernel::execute(OpenMM::ContextImpl& context, bool incl
     OpenMM::ContextSelector selector(cc);
     checkParametersFitBox(context);
     grid->build(parameters.maxCutoff, "DPDForce");
-    forceKernel.run(cc.getNumAtoms(), -1, cc.getNumAtoms(), cc.getPosq(), grid->getBoxSize(), grid->getInverseBoxSize(),
-                    grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(),
-                    typeOf, repulsion, cutoff, parameters.numTypes, parameters.maxCutoff, cc.getLongForceBuffer(), cc.getEnergyBuffer(),
-                    includeForces ? 1 : 0, includeEnergy ? 1 : 0, computeVirial ? virialRows : typeOf, computeVirial ? 1 : 0);
+    // Each pair once, with atomics, unless the virial's rows are asked for (dpdConservativeForce.cc): the same force bits.
+    if (computeVirial)
+        gatherKernel.run(cc.getNumAtoms(), -1, cc.getNumAtoms(), cc.getPosq(), grid->getBoxSize(), grid->getInverseBoxSize(),
+                         grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(),
+                         typeOf, repulsion, cutoff, parameters.numTypes, parameters.maxCutoff, cc.getLongForceBuffer(),
+                         cc.getEnergyBuffer(), includeForces ? 1 : 0, includeEnergy ? 1 : 0, virialRows);
+    else
+        halfStencilKernel.run(cc.getNumAtoms(), -1, cc.getNumAtoms(), cc.getPosq(), grid->getBoxSize(), grid->getInverseBoxSize(),
+                              grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(),
+                              cc.getAtomIndexArray(), typeOf, repulsion, cutoff, parameters.numTypes, parameters.maxCutoff,
+                              cc.getLongForceBuffer(), cc.getEnergyBuffer(), includeForces ? 1 : 0, includeEnergy ? 1 : 0);
     evaluationCount++;
     return 0.0; // the energy is in OpenMM's energy buffer
 }
