@@ -46,11 +46,6 @@ DEVICE DPDSoftPair dpdSoftPair(real4 pi, real4 pj, int pairType, GLOBAL const do
     return pair;
 }
 
-/** A pair force's component in OpenMM's fixed point (truncated toward zero: the two ends' exactly opposite). */
-DEVICE mm_long dpdFixedPointForce(double forceOverR, double delta) {
-    return (mm_long) (forceOverR*delta*(double) 0x100000000);
-}
-
 KERNEL void dpdConservativeForcesOverHalfStencils(int numAtoms, GLOBAL const real4* RESTRICT posq, double4 boxSize,
                                                   double4 inverseBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellOf,
                                                   GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms,

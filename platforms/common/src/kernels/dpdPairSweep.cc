@@ -406,9 +406,9 @@ KERNEL void dpdGatherOverPairs(int gather, int numAtoms, DPD_POSITIONS, double4 
                         double R = dpdNormal(dpdPairNormalFactors(randomKey, originalI, originalJ)); // symmetric in i and j
                         DPDPairUpdate force = dissipativeAndRandomForce(pair.gamma, w, kT, dt, R);
                         double magnitude = dpdMomentumChange(force, u);
-                        fx += (mm_long) (magnitude*ex*DPD_FIXED_POINT_SCALE);
-                        fy += (mm_long) (magnitude*ey*DPD_FIXED_POINT_SCALE);
-                        fz += (mm_long) (magnitude*ez*DPD_FIXED_POINT_SCALE);
+                        fx += dpdFixedPointForce(magnitude, ex);
+                        fy += dpdFixedPointForce(magnitude, ey);
+                        fz += dpdFixedPointForce(magnitude, ez);
                         if (gatherStress) { // half of the pair's share: each pair is seen from both ends
                             dpdAddPairStress(stress, r, 0.5*dpdDissipativePart(force, u), ex, ey, ez);
                             dpdAddPairStress(stress+6, r, 0.5*force.offset, ex, ey, ez);

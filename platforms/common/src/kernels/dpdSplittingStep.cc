@@ -10,6 +10,15 @@
 
 #define DPD_FIXED_POINT_SCALE ((double) 0x100000000)
 
+/**
+ * A pair force's component |F|/r times the separation's, in OpenMM's fixed point: truncated toward zero,
+ * so a pair's two ends give exactly opposite integers (the pair passes, dpdConservativeForce.cc and
+ * dpdGatherOverPairs).
+ */
+DEVICE mm_long dpdFixedPointForce(double magnitude, double component) {
+    return (mm_long) (magnitude*component*DPD_FIXED_POINT_SCALE);
+}
+
 /** The force on particle i (OpenMM's index) from the Context's buffer or, fromStored, the kept copy. */
 DEVICE double dpdForceComponent(GLOBAL const mm_long* RESTRICT contextForces, GLOBAL const mm_long* RESTRICT storedForces,
                                 int fromStored, int i, int original, int component) {
