@@ -125,6 +125,7 @@ private:
     const OpenMM::ForceImpl* sharedForceImpl = nullptr;      // sharedForceKernel's force
     std::unique_ptr<DPDConservativeVirial> otherForcesVirial; // the conservative stress of the integrated forces but that one
     CommonDPDKernel kickKernel, driftKernel, sweepKernel, gatherKernel, sumRowsKernel;
+    CommonDPDKernel halfStencilForceKernel; // VV's F^D + F^R, each pair once, when no stress is gathered (dpdPairGather.cc)
     int sweepBlocks = 1; // the blocks a sweep's work-group sweeps side by side, as compiled (CommonDPDProgram::sweepBlocks)
     bool sweepInOneLaunch = true; // all the colours in one launch (CommonDPDProgram::sweepInOneLaunch)
     std::unique_ptr<CommonDPDTicketSchedule> schedule;

@@ -61,6 +61,7 @@ CommonDPDStepBackend::CommonDPDStepBackend(OpenMM::ContextImpl& context, OpenMM:
     sweepInOneLaunch = CommonDPDProgram::sweepInOneLaunch();
     schedule = std::make_unique<CommonDPDTicketSchedule>(cc, "dpdSweepBlocks");
     gatherKernel = CommonDPDKernel(program, "dpdGatherOverPairs");
+    halfStencilForceKernel = CommonDPDKernel(program, "dpdDissipativeForcesOverHalfStencils");
     sumRowsKernel = CommonDPDKernel(program, "dpdSumRows");
     typeOf.initialize<int>(cc, system.getNumParticles(), "dpdFrictionTypes");
     storedForces.initialize<long long>(cc, 3*system.getNumParticles(), "dpdStoredForces");
@@ -361,15 +362,23 @@ void CommonDPDStepBackend::addDissipativeAndRandomForces(const DPDSweepRequest& 
     // To the latest forces: the Context's, or the stored copy (VV's first step of a run).
     OpenMM::ArrayInterface& forces = latestForcesStored ? static_cast<OpenMM::ArrayInterface&>(storedForces) : cc.getLongForceBuffer();
     int numAtoms = cc.getNumAtoms(), gatherStress = accumulateStress && request.gatherStress ? 1 : 0;
-    OpenMM::ComputeArray& stressRows = stress->blockRows(gatherStress ? numAtoms : 1); // one row a particle
     std::uint64_t key = request.randomKey;
-    gatherKernel.run(numAtoms, -1, static_cast<int>(DissipativeAndRandomForces), numAtoms, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(),
-                           grid->getInverseBoxSize(), grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(),
-                           cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes, friction.maxCutoff, kT,
-                           request.dt, key, shear->flow().getShearRate(), cc.getVelm(), forces, latestForcesStored ? 1 : 0, gatherStress,
-                           stressRows);
-    if (gatherStress)
+    // Each pair once with atomics, or, for the stress's rows, from both ends (dpdPairGather.cc): the same force bits.
+    if (gatherStress) {
+        OpenMM::ComputeArray& stressRows = stress->blockRows(numAtoms); // one row a particle
+        gatherKernel.run(numAtoms, -1, static_cast<int>(DissipativeAndRandomForces), numAtoms, cc.getPosq(),
+                         CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(), grid->getInverseBoxSize(), grid->getLayout().numCells,
+                         grid->getCellOf(), grid->getCellStart(), grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues,
+                         frictionCutoffs, friction.numTypes, friction.maxCutoff, kT, request.dt, key, shear->flow().getShearRate(),
+                         cc.getVelm(), forces, latestForcesStored ? 1 : 0, gatherStress, stressRows);
         stress->addSweepColours(numAtoms, 1);
+    }
+    else
+        halfStencilForceKernel.run(numAtoms, -1, numAtoms, cc.getPosq(), CommonDPDProgram::positionCorrections(cc), grid->getBoxSize(),
+                                   grid->getInverseBoxSize(), grid->getLayout().numCells, grid->getCellOf(), grid->getCellStart(),
+                                   grid->getCellAtoms(), cc.getAtomIndexArray(), typeOf, frictionValues, frictionCutoffs, friction.numTypes,
+                                   friction.maxCutoff, kT, request.dt, key, shear->flow().getShearRate(), cc.getVelm(), forces,
+                                   latestForcesStored ? 1 : 0);
 }
 
 void CommonDPDStepBackend::moveImages(double elapsed, bool wrap) {

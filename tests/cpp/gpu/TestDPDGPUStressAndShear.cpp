@@ -133,29 +133,31 @@ TEST(GPUStress, SamplesWithBondsAnglesAndACustomPairMatchReference) {
     EXPECT_TRUE(bitIdentical(snapshot(*plain), ends[0])); // accumulating stress left the trajectory alone
 }
 
-TEST(GPUStress, TheForcePassesWithAndWithoutTheVirialGiveTheSameBitsInEveryPrecisionUnderShear) {
-    // The DPDForce finds each pair once, from a half stencil with atomics, unless the virial is asked for,
-    // when it gathers every pair from both ends (dpdConservativeForce.cc).  Both round each pair force to
-    // fixed point, and the two ends' integers are exactly opposite, so the forces have the same bits: the
-    // sheared ABOBA run (the images slide: b_x = kappa L_y t reaches 4 of L = 5) with and without stress
-    // accumulation ends in the same state, in each precision.  (Mutation: the half stencil skipping a
-    // particle's next one in its cell fails the bits.)
+TEST(GPUStress, ThePairPassesWithAndWithoutTheStressGiveTheSameBitsInEveryPrecisionUnderShear) {
+    // The DPDForce, and VV's F^D + F^R, find each pair once, from a half stencil with atomics, unless the
+    // stress is asked for, when they gather every pair from both ends (dpdConservativeForce.cc,
+    // dpdPairGather.cc).  Both round each pair force to fixed point, and the two ends' integers are
+    // exactly opposite, so the forces have the same bits: a sheared run (the images slide: b_x = kappa L_y t
+    // reaches 3 and 4 of L = 5) with and without stress accumulation ends in the same state, in each precision,
+    // with ABOBA (the conservative pass) and VV (both; its first step adds F^D + F^R to the stored forces).
+    // (Mutation: either half stencil skipping a particle's next one in its cell fails the bits.)
     EquilibratedFluid start = equilibratedSoftFluid(375);
-    for (const char* precision : {"single", "mixed", "double"}) {
-        Snapshot runs[2];
-        for (int withStress = 0; withStress < 2; withStress++) {
-            DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, 0.04, DPDIntegrator::ABOBA);
-            integrator.setRandomNumberSeed(12);
-            integrator.setLeesEdwards(0.5);
-            integrator.setStressAccumulation(withStress == 1);
-            auto context = gpuContext(*start.fluid.system, integrator, precision);
-            context->setPositions(start.fluid.positions);
-            context->setVelocities(start.velocities);
-            integrator.step(40);
-            runs[withStress] = snapshot(*context);
+    for (DPDIntegrator::Scheme scheme : {DPDIntegrator::ABOBA, DPDIntegrator::VV})
+        for (const char* precision : {"single", "mixed", "double"}) {
+            Snapshot runs[2];
+            for (int withStress = 0; withStress < 2; withStress++) {
+                DPDIntegrator integrator(reducedTemperature, 4.5, 1.0, scheme == DPDIntegrator::VV ? 0.02 : 0.04, scheme);
+                integrator.setRandomNumberSeed(12);
+                integrator.setLeesEdwards(0.5);
+                integrator.setStressAccumulation(withStress == 1);
+                auto context = gpuContext(*start.fluid.system, integrator, precision);
+                context->setPositions(start.fluid.positions);
+                context->setVelocities(start.velocities);
+                integrator.step(scheme == DPDIntegrator::VV ? 60 : 40);
+                runs[withStress] = snapshot(*context);
+            }
+            EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << (scheme == DPDIntegrator::VV ? "VV " : "ABOBA ") << precision;
         }
-        EXPECT_TRUE(bitIdentical(runs[0], runs[1])) << precision;
-    }
 }
 
 TEST(GPUStress, ABOBAPressureAgreesWithTheCPU) {

@@ -60,14 +60,11 @@ KERNEL void dpdConservativeForcesOverHalfStencils(int numAtoms, GLOBAL const rea
         int i = cellAtoms[slotI];
         real4 pi = posq[i];
         int typeI = typeOf[atomIndex[i]];
-        int cell = cellOf[i];
-        int cx = cell%numCells.x, cy = (cell/numCells.x)%numCells.y, cz = cell/(numCells.x*numCells.y);
         mm_long fx = 0, fy = 0, fz = 0;
-        // The later slots of i's own cell, then the 13 half-stencil cells (k = -1: the own cell).
-        for (int k = -1; k < 13; k++) {
-            int neighbour = k < 0 ? cell : dpdNeighbourCell(cx, cy, cz, dpdHalfStencilOffset(k, 0), dpdHalfStencilOffset(k, 1),
-                                                            dpdHalfStencilOffset(k, 2), numCells);
-            for (int slot = k < 0 ? slotI+1 : cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
+        // The later slots of i's own cell, then the 13 half-stencil cells.
+        for (int n = DPD_OWN_CELL; n < 27; n++) {
+            int neighbour = dpdStencilCell(cellOf[i], n, numCells);
+            for (int slot = n == DPD_OWN_CELL ? slotI+1 : cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
                 int j = cellAtoms[slot];
                 DPDSoftPair pair = dpdSoftPair(pi, posq[j], typeI*numTypes+typeOf[atomIndex[j]], repulsion, cutoff, maxCutoff2,
                                                boxSize, inverseBoxSize);
@@ -108,31 +105,27 @@ KERNEL void dpdConservativeForces(int numAtoms, GLOBAL const real4* RESTRICT pos
     for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
         real4 pi = posq[i];
         int typeI = typeOf[atomIndex[i]];
-        int cell = cellOf[i];
-        int cx = cell%numCells.x, cy = (cell/numCells.x)%numCells.y, cz = cell/(numCells.x*numCells.y);
         mm_long fx = 0, fy = 0, fz = 0;
         double virial[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; // half of sum_j r_ij (x) F_ij: each pair is seen twice
-        for (int dz = -1; dz <= 1; dz++)
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++) {
-                    int neighbour = dpdNeighbourCell(cx, cy, cz, dx, dy, dz, numCells);
-                    for (int slot = cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
-                        int j = cellAtoms[slot];
-                        if (j == i)
-                            continue;
-                        DPDSoftPair pair = dpdSoftPair(pi, posq[j], typeI*numTypes+typeOf[atomIndex[j]], repulsion, cutoff, maxCutoff2,
-                                                       boxSize, inverseBoxSize);
-                        if (pair.r == 0.0)
-                            continue;
-                        fx += dpdFixedPointForce(pair.forceOverR, pair.deltaX);
-                        fy += dpdFixedPointForce(pair.forceOverR, pair.deltaY);
-                        fz += dpdFixedPointForce(pair.forceOverR, pair.deltaZ);
-                        energy += 0.5*pair.energy; // each pair is seen twice (the halving is exact: the gather's bits as before)
-                        // r e (x) F: half of the pair's share, as each pair is seen twice
-                        dpdAddPairStress(virial, pair.r, 0.5*pair.magnitude, pair.deltaX/pair.r, pair.deltaY/pair.r,
-                                         pair.deltaZ/pair.r);
-                    }
-                }
+        for (int n = 0; n < 27; n++) { // the 27 cells around i's own, in the order z, y, x
+            int neighbour = dpdStencilCell(cellOf[i], n, numCells);
+            for (int slot = cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
+                int j = cellAtoms[slot];
+                if (j == i)
+                    continue;
+                DPDSoftPair pair = dpdSoftPair(pi, posq[j], typeI*numTypes+typeOf[atomIndex[j]], repulsion, cutoff, maxCutoff2,
+                                               boxSize, inverseBoxSize);
+                if (pair.r == 0.0)
+                    continue;
+                fx += dpdFixedPointForce(pair.forceOverR, pair.deltaX);
+                fy += dpdFixedPointForce(pair.forceOverR, pair.deltaY);
+                fz += dpdFixedPointForce(pair.forceOverR, pair.deltaZ);
+                energy += 0.5*pair.energy; // each pair is seen twice (the halving is exact: the gather's bits as before)
+                // r e (x) F: half of the pair's share, as each pair is seen twice
+                dpdAddPairStress(virial, pair.r, 0.5*pair.magnitude, pair.deltaX/pair.r, pair.deltaY/pair.r,
+                                 pair.deltaZ/pair.r);
+            }
+        }
         if (includeForces) {
             forceBuffer[i] += fx;
             forceBuffer[i+PADDED_NUM_ATOMS] += fy;

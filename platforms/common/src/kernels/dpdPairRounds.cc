@@ -135,9 +135,7 @@ DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITION
             mixed4 vi = held ? regionVelocity[i] : velm[i], vj = held ? regionVelocity[j] : velm[j];
             double ex = laneGeometry[n].ex, ey = laneGeometry[n].ey, ez = laneGeometry[n].ez;
             DPDPairUpdate update = dpdPairUpdate(laneSlope[n], laneOffset[n]);
-            // The lab-frame relative velocity: peculiar velocities plus the streaming difference.
-            double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
-                       leesEdwardsRelativeVelocity(shearRate, laneGeometry[n].r, ex, ey);
+            double u = dpdPairRelativeVelocity(laneGeometry[n].r, ex, ey, ez, vi, vj, shearRate);
             double change = dpdMomentumChange(update, u);
             laneDissipative[n] = dpdDissipativePart(update, u);
             vi.x += (mixed) (change*ex*vi.w);

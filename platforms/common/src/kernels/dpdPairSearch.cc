@@ -1,15 +1,30 @@
 /*
- * The pair search of the GPU platforms' sweeps and VV's pair forces (dpdPairSweep.cc): the half
+ * The pair search of the GPU platforms' sweeps and pair passes (dpdPairSweep.cc, dpdPairGather.cc): the
  * stencil, a pair's minimum-image geometry (the one spelling of it on the device, so that a pair's
  * geometry found twice has the same bits) and whether two particles are a dissipative pair.
  */
 
-/** The 13 neighbour cells of the half stencil: (dx, dy, dz) after (0, 0, 0) in the order z, then y, then x. */
-DEVICE int dpdHalfStencilOffset(int k, int axis) {
-    int n = k+14; // offsets 14..26 of the 27 in (dz, dy, dx) order, dz slowest: exactly those after (0, 0, 0)
+/** Cell n of the 27 around a cell (n from 0 to 26, 13 the cell itself): its offset (dx, dy, dz) in the order z, then y, then x. */
+DEVICE int dpdStencilOffset(int n, int axis) {
     int d = axis == 0 ? n%3 : (axis == 1 ? (n/3)%3 : n/9);
     return d-1;
 }
+
+/** The 13 neighbour cells of the half stencil: the stencil's cells after (0, 0, 0), 14 to 26. */
+DEVICE int dpdHalfStencilOffset(int k, int axis) {
+    return dpdStencilOffset(k+14, axis);
+}
+
+/**
+ * Cell n of the 27 around `cell` (dpdStencilOffset; n = 13 the cell itself), periodic.  A gather visits
+ * n = 0 to 26; a half-stencil pass n = 13 (the cell, whose later slots are a slot's partners there) to 26.
+ */
+DEVICE int dpdStencilCell(int cell, int n, int4 numCells) {
+    int cx = cell%numCells.x, cy = (cell/numCells.x)%numCells.y, cz = cell/(numCells.x*numCells.y);
+    return dpdNeighbourCell(cx, cy, cz, dpdStencilOffset(n, 0), dpdStencilOffset(n, 1), dpdStencilOffset(n, 2), numCells);
+}
+
+#define DPD_OWN_CELL 13 // the stencil's centre (dpdStencilCell)
 
 /** A pair's separation: r = |q_i - q_j| (minimum image) and e_ij = (q_i - q_j)/r. */
 typedef struct DPDPairGeometry {
@@ -66,4 +81,14 @@ DEVICE int dpdFindDissipativePair(mixed4 pi, mixed4 pj, double invMassI, double 
     pair->ey = geometry.ey;
     pair->ez = geometry.ez;
     return 1;
+}
+
+/**
+ * u_ij = e_ij . (v_i - v_j) in the lab frame: the peculiar velocities' difference plus the streaming
+ * one of Lees-Edwards shear (leesEdwardsRelativeVelocity, DPDPairFormulas.h), for a pair at r along e.
+ * From j's end (e and the difference negated, exactly) it gives the same bits.
+ */
+DEVICE double dpdPairRelativeVelocity(double r, double ex, double ey, double ez, mixed4 vi, mixed4 vj, double shearRate) {
+    return ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
+           leesEdwardsRelativeVelocity(shearRate, r, ex, ey);
 }

@@ -1,10 +1,9 @@
 /*
  * The pair sweeps of the GPU platforms (CommonDPDStepBackend): the exact OU sweep O and Shardlow's BBK
- * sweep (PAdL's O with its friction xi and noise sigma too), and VV's F^D + F^R and PAdL's friction
- * feedback, with the per-pair formulas and random numbers every platform shares (DPDPairFormulas.h,
- * DPDPairRandom.h).  VV's forces and the feedback read the velocities before any update, so they need
- * no order: a gather per particle (dpdGatherOverPairs).  The successive sweeps
- * need one:
+ * sweep (PAdL's O with its friction xi and noise sigma too), with the per-pair formulas and random
+ * numbers every platform shares (DPDPairFormulas.h, DPDPairRandom.h).  VV's F^D + F^R and PAdL's
+ * friction feedback read the velocities before any update, so they need no order (dpdPairGather.cc);
+ * the successive sweeps need one:
  *
  * The cell grid's blocks colour after colour (CommonDPDCellGrid: two blocks of a colour share no
  * particle), all the colours in one launch, each block as soon as its neighbours of earlier colours are
@@ -342,89 +341,5 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
         }
         SYNC_THREADS; // the next blocks reuse the local arrays, and the ticket is read
         dpdMarkBlockSwept(active, bx, by, bz, numBlocks, blockSwept, epoch);
-    }
-}
-
-#define DPD_GATHER_FORCES 0
-#define DPD_GATHER_FRICTION_FEEDBACK 1
-
-/**
- * A gather over each particle's dissipative pairs at the current velocities, one thread per particle
- * over the 27 cells around its own; each pair is seen from both ends, with exactly opposite (forces) or
- * equal (feedback) results: the separation, the relative velocity and e (x) e change sign together, and
- * the random number is symmetric.  What it gathers:
- *
- * DPD_GATHER_FORCES: VV's dissipative and random pair forces F^D + F^R (Shang 2021 eqs. 2.2b, 2.2c),
- * added to the Context's forces (OpenMM's order) or the stored ones (System order), each rounded to
- * fixed point before it is summed: the forces sum to exactly zero and no atomic is needed.  With
- * gatherStress, row i of rows holds half of the particle's pairs' dissipative and random stress (12
- * values, dpdStress.cc sums the rows in order).
- *
- * DPD_GATHER_FRICTION_FEEDBACK: PAdL's feedback on the friction, row i of rows the half of
- * sum_j w^2 [u^2 - kT/m_ij] over the particle's pairs (docs/design/padl.rst eq. 3; the half is exact, and
- * both ends give the same bits), for dpdSumRows to add in a fixed order.  No force, no random number.
- */
-KERNEL void dpdGatherOverPairs(int gather, int numAtoms, DPD_POSITIONS, double4 boxSize, double4 inverseBoxSize, int4 numCells,
-                               GLOBAL const int* RESTRICT cellOf, GLOBAL const int* RESTRICT cellStart,
-                               GLOBAL const int* RESTRICT cellAtoms, GLOBAL const int* RESTRICT atomIndex,
-                               GLOBAL const int* RESTRICT typeOf, GLOBAL const double* RESTRICT friction,
-                               GLOBAL const double* RESTRICT cutoff, int numTypes, double maxCutoff, double kT,
-                               double dt, mm_ulong randomKey, double shearRate, GLOBAL const mixed4* RESTRICT velm,
-                               GLOBAL mm_long* RESTRICT forces, int forcesStored, int gatherStress,
-                               GLOBAL double* RESTRICT rows) {
-    double maxCutoff2 = maxCutoff*maxCutoff;
-    for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
-        mixed4 pi = DPD_POSITION(i), vi = velm[i];
-        int originalI = atomIndex[i];
-        int typeI = typeOf[originalI];
-        int cell = cellOf[i];
-        int cx = cell%numCells.x, cy = (cell/numCells.x)%numCells.y, cz = cell/(numCells.x*numCells.y);
-        mm_long fx = 0, fy = 0, fz = 0;
-        double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-        double feedback = 0.0;
-        for (int dz = -1; dz <= 1; dz++)
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++) {
-                    int neighbour = dpdNeighbourCell(cx, cy, cz, dx, dy, dz, numCells);
-                    for (int slot = cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
-                        int j = cellAtoms[slot];
-                        if (j == i)
-                            continue;
-                        mixed4 pj = DPD_POSITION(j), vj = velm[j];
-                        int originalJ = atomIndex[j];
-                        DPDDissipativePair pair;
-                        if (!dpdFindDissipativePair(pi, pj, vi.w, vj.w, typeI*numTypes+typeOf[originalJ], friction, cutoff, maxCutoff2,
-                                                    boxSize, inverseBoxSize, &pair))
-                            continue;
-                        double r = pair.r, w = pair.w, ex = pair.ex, ey = pair.ey, ez = pair.ez;
-                        double u = ex*((double) vi.x-(double) vj.x)+ey*((double) vi.y-(double) vj.y)+ez*((double) vi.z-(double) vj.z)+
-                                   leesEdwardsRelativeVelocity(shearRate, r, ex, ey);
-                        if (gather == DPD_GATHER_FRICTION_FEEDBACK) {
-                            feedback += 0.5*dpdFrictionFeedback(frictionFeedbackTerms(w, pair.invReducedMass, kT), u);
-                            continue;
-                        }
-                        double R = dpdNormal(dpdPairNormalFactors(randomKey, originalI, originalJ)); // symmetric in i and j
-                        DPDPairUpdate force = dissipativeAndRandomForce(pair.gamma, w, kT, dt, R);
-                        double magnitude = dpdMomentumChange(force, u);
-                        fx += dpdFixedPointForce(magnitude, ex);
-                        fy += dpdFixedPointForce(magnitude, ey);
-                        fz += dpdFixedPointForce(magnitude, ez);
-                        if (gatherStress) { // half of the pair's share: each pair is seen from both ends
-                            dpdAddPairStress(stress, r, 0.5*dpdDissipativePart(force, u), ex, ey, ez);
-                            dpdAddPairStress(stress+6, r, 0.5*force.offset, ex, ey, ez);
-                        }
-                    }
-                }
-        if (gather == DPD_GATHER_FRICTION_FEEDBACK) {
-            rows[i] = feedback;
-            continue;
-        }
-        int row = forcesStored ? originalI : i, stride = forcesStored ? NUM_ATOMS : PADDED_NUM_ATOMS;
-        forces[row] += fx;
-        forces[row+stride] += fy;
-        forces[row+2*stride] += fz;
-        if (gatherStress)
-            for (int k = 0; k < 12; k++)
-                rows[12*i+k] = stress[k];
     }
 }
