@@ -3,6 +3,7 @@
 // and more cells a side, with coordinates on and just across the box's faces (x = -1e-17, where
 // f - floor(f) rounds to 1; x = L - 1e-16; x = L; several boxes away).
 
+#include "openmmdpd/internal/DPDMinimumImageFormula.h"
 #include "openmmdpd/internal/DPDNeighborSearch.h"
 #include "gtest/gtest.h"
 #include <cmath>
@@ -99,4 +100,30 @@ TEST(NeighborSearch, NonFinitePositionsHaveNoPairs) {
     std::vector<Vec3> positions = {Vec3(1, 1, 1), Vec3(NAN, 1, 1), Vec3(1.5, 1, 1), Vec3(INFINITY, 1, 1)};
     std::set<std::pair<int, int>> pairs = searchedPairs(positions, box, 1.0);
     EXPECT_EQ(pairs, (std::set<std::pair<int, int>>{{0, 2}}));
+}
+
+TEST(NeighborSearch, TheMinimumImagesWholeBoxesAreFloorOfTPlusAHalfBitForBit) {
+    // dpdWholeBoxes skips the floor where |t| < 1/4 (DPDMinimumImageFormula.h): it must be floor(t + 1/2)
+    // to the bit everywhere, at the quarter's edges and their neighbours, at the halves where the image
+    // turns over, at signed zeros and subnormals, far out, and on a dense sweep between.
+    std::vector<double> values = {0.0, -0.0, 1e-310, -1e-310, 0.25, -0.25, 0.5, -0.5, 0.75, -0.75, 1.5, -1.5, 1e300, -1e300};
+    for (double edge : {0.25, -0.25, 0.5, -0.5}) {
+        double below = edge, above = edge;
+        for (int k = 0; k < 4; k++) {
+            below = std::nextafter(below, -2.0);
+            above = std::nextafter(above, 2.0);
+            values.push_back(below);
+            values.push_back(above);
+        }
+    }
+    std::mt19937_64 generator(20261207);
+    std::uniform_real_distribution<double> uniform(-3.0, 3.0);
+    for (int k = 0; k < 100000; k++)
+        values.push_back(uniform(generator));
+    for (double t : values) {
+        double expected = std::floor(t+0.5), got = dpdWholeBoxes(t);
+        ASSERT_EQ(std::signbit(expected), std::signbit(got)) << t;
+        ASSERT_EQ(expected, got) << t;
+    }
+    EXPECT_TRUE(std::isnan(dpdWholeBoxes(std::nan(""))));
 }

@@ -16,7 +16,7 @@
  *   DPD_U64(c)           a 64-bit unsigned literal
  *   DPD_BEGIN_NAMESPACE, DPD_END_NAMESPACE   namespace OpenMMDPD on the host, nothing in kernels
  *
- * The formulas call expm1, sqrt, log, sin, cos and floor unqualified: the host brings std's overloads into the
+ * The formulas call expm1, sqrt, log, sin, cos, fabs and floor unqualified: the host brings std's overloads into the
  * namespace, and OpenCL C and CUDA have them built in for float and double.  No structure in them has
  * a member function, and values are returned through plain structures built field by field.
  */
@@ -51,6 +51,7 @@ using dpd_uint32 = std::uint32_t;
 using dpd_int64 = std::int64_t;
 using std::cos;
 using std::expm1;
+using std::fabs;
 using std::floor;
 using std::log;
 using std::sin;

@@ -19,6 +19,17 @@ typedef struct DPDSeparation {
 } DPDSeparation;
 
 /**
+ * floor(t + 1/2), the whole boxes a separation of t box heights is reduced by.  Where |t| < 1/4 it is
+ * exactly +0 (t + 1/2 lies in (1/4, 3/4)), as it is for nearly every candidate pair in a box many
+ * cutoffs wide (all but those across its faces), so the floor is skipped there: the same bits, and on
+ * OpenCL's CPU devices (pocl) floor is a software routine that the pair searches called three times a
+ * candidate.  A NaN takes the floor.
+ */
+DPD_FUNCTION double dpdWholeBoxes(double t) {
+    return fabs(t) < 0.25 ? 0.0 : floor(t+0.5);
+}
+
+/**
  * (dx, dy, dz) reduced along c, then b, then a, as OpenMM reduces it: a = (a_x, 0, 0), b = (b_x, b_y, 0),
  * c = (c_x, c_y, c_z), with the reciprocal heights 1/a_x, 1/b_y, 1/c_z.  A Lees-Edwards box is a box
  * whose b_x is the image offset; a rectangular one has b_x = c_x = c_y = 0, and the products with 0 leave
@@ -27,14 +38,14 @@ typedef struct DPDSeparation {
  */
 DPD_FUNCTION DPDSeparation dpdMinimumImage(double dx, double dy, double dz, double ax, double bx, double by, double cx, double cy,
                                            double cz, double inverseAx, double inverseBy, double inverseCz) {
-    double shiftC = floor(dz*inverseCz+0.5);
+    double shiftC = dpdWholeBoxes(dz*inverseCz);
     dx -= shiftC*cx;
     dy -= shiftC*cy;
     dz -= shiftC*cz;
-    double shiftB = floor(dy*inverseBy+0.5);
+    double shiftB = dpdWholeBoxes(dy*inverseBy);
     dx -= shiftB*bx;
     dy -= shiftB*by;
-    dx -= floor(dx*inverseAx+0.5)*ax;
+    dx -= dpdWholeBoxes(dx*inverseAx)*ax;
     DPDSeparation separation;
     separation.x = dx;
     separation.y = dy;
