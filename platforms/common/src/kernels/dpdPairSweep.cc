@@ -120,7 +120,7 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
     // Each block cell's region cell and those of its 13 half-stencil cells, found once a block for the decoding of every candidate.
     DPD_SWEEP_SLICE_ARRAY(unsigned char, cellRegion, DPD_SWEEP_MAX_BLOCK_CELLS);
     DPD_SWEEP_SLICE_ARRAY(unsigned char, stencilRegion, 13*DPD_SWEEP_MAX_BLOCK_CELLS);
-    DPD_SWEEP_SLICE_ARRAY(int, laneSums, DPD_SWEEP_LANES);
+    DPD_SWEEP_SLICE_ARRAY(int, laneSums, DPD_SWEEP_LANES); // the block's scans, then the chunks' flags (dpdCountFoundBefore)
     DPD_SWEEP_SLICE_ARRAY(double, laneTotals, DPD_SWEEP_LANES);
     DPD_SWEEP_SLICE_ARRAY(int, regionAtom, DPD_SWEEP_HELD_SIZE);
     DPD_SWEEP_SLICE_ARRAY(int, regionOriginal, DPD_SWEEP_HELD_SIZE);
@@ -287,8 +287,9 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                         update = bbkUpdate(pair.gamma, pair.w, pair.invReducedMass, kT, dt, dpdNormal(R));
                 }
             }
-            int chunkStart = numBuffered, position = chunkStart+dpdExclusiveScanOfLanes(found, laneSums, lane, DPD_SWEEP_LANES);
-            numBuffered += laneSums[DPD_SWEEP_LANES-1]; // the pairs this chunk found
+            int foundInChunk, chunkStart = numBuffered, position = chunkStart+dpdCountFoundBefore(found, (LOCAL_ARG unsigned int*) laneSums,
+                                                                                                &foundInChunk);
+            numBuffered += foundInChunk;
             if (found) {
                 pairI[position] = atomI;
                 pairJ[position] = atomJ;
