@@ -60,10 +60,11 @@ KERNEL void dpdConservativeForcesOverHalfStencils(int numAtoms, GLOBAL const rea
         int i = cellAtoms[slotI];
         real4 pi = posq[i];
         int typeI = typeOf[atomIndex[i]];
+        int4 cellI = dpdCellCoordinates(cellOf[i], numCells);
         mm_long fx = 0, fy = 0, fz = 0;
         // The later slots of i's own cell, then the 13 half-stencil cells.
         for (int n = DPD_OWN_CELL; n < 27; n++) {
-            int neighbour = dpdStencilCell(cellOf[i], n, numCells);
+            int neighbour = dpdStencilCell(cellI, n, numCells);
             for (int slot = n == DPD_OWN_CELL ? slotI+1 : cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
                 int j = cellAtoms[slot];
                 DPDSoftPair pair = dpdSoftPair(pi, posq[j], typeI*numTypes+typeOf[atomIndex[j]], repulsion, cutoff, maxCutoff2,
@@ -105,10 +106,11 @@ KERNEL void dpdConservativeForces(int numAtoms, GLOBAL const real4* RESTRICT pos
     for (int i = GLOBAL_ID; i < numAtoms; i += GLOBAL_SIZE) {
         real4 pi = posq[i];
         int typeI = typeOf[atomIndex[i]];
+        int4 cellI = dpdCellCoordinates(cellOf[i], numCells);
         mm_long fx = 0, fy = 0, fz = 0;
         double virial[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; // half of sum_j r_ij (x) F_ij: each pair is seen twice
         for (int n = 0; n < 27; n++) { // the 27 cells around i's own, in the order z, y, x
-            int neighbour = dpdStencilCell(cellOf[i], n, numCells);
+            int neighbour = dpdStencilCell(cellI, n, numCells);
             for (int slot = cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
                 int j = cellAtoms[slot];
                 if (j == i)

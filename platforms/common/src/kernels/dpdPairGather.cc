@@ -47,10 +47,11 @@ KERNEL void dpdDissipativeForcesOverHalfStencils(int numAtoms, DPD_POSITIONS, do
         mixed4 pi = DPD_POSITION(i), vi = velm[i];
         int originalI = atomIndex[i];
         int typeI = typeOf[originalI];
+        int4 cellI = dpdCellCoordinates(cellOf[i], numCells);
         mm_long fx = 0, fy = 0, fz = 0;
         // The later slots of i's own cell, then the 13 half-stencil cells.
         for (int n = DPD_OWN_CELL; n < 27; n++) {
-            int neighbour = dpdStencilCell(cellOf[i], n, numCells);
+            int neighbour = dpdStencilCell(cellI, n, numCells);
             for (int slot = n == DPD_OWN_CELL ? slotI+1 : cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
                 int j = cellAtoms[slot];
                 mixed4 pj = DPD_POSITION(j), vj = velm[j];
@@ -105,11 +106,12 @@ KERNEL void dpdGatherOverPairs(int gather, int numAtoms, DPD_POSITIONS, double4 
         mixed4 pi = DPD_POSITION(i), vi = velm[i];
         int originalI = atomIndex[i];
         int typeI = typeOf[originalI];
+        int4 cellI = dpdCellCoordinates(cellOf[i], numCells);
         mm_long fx = 0, fy = 0, fz = 0;
         double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
         double feedback = 0.0;
         for (int n = 0; n < 27; n++) { // the 27 cells around i's own, in the order z, y, x
-            int neighbour = dpdStencilCell(cellOf[i], n, numCells);
+            int neighbour = dpdStencilCell(cellI, n, numCells);
             for (int slot = cellStart[neighbour]; slot < cellStart[neighbour+1]; slot++) {
                 int j = cellAtoms[slot];
                 if (j == i)

@@ -15,13 +15,19 @@ DEVICE int dpdHalfStencilOffset(int k, int axis) {
     return dpdStencilOffset(k+14, axis);
 }
 
+/** A cell's grid coordinates (x, y, z), cells numbered x fastest: found once a particle for dpdStencilCell. */
+DEVICE int4 dpdCellCoordinates(int cell, int4 numCells) {
+    return make_int4(cell%numCells.x, (cell/numCells.x)%numCells.y, cell/(numCells.x*numCells.y), 0);
+}
+
 /**
- * Cell n of the 27 around `cell` (dpdStencilOffset; n = 13 the cell itself), periodic.  A gather visits
- * n = 0 to 26; a half-stencil pass n = 13 (the cell, whose later slots are a slot's partners there) to 26.
+ * Cell n of the 27 around the cell at `coordinates` (dpdStencilOffset; n = 13 the cell itself), periodic.
+ * A gather visits n = 0 to 26; a half-stencil pass n = 13 (the cell, whose later slots are a slot's
+ * partners there) to 26.
  */
-DEVICE int dpdStencilCell(int cell, int n, int4 numCells) {
-    int cx = cell%numCells.x, cy = (cell/numCells.x)%numCells.y, cz = cell/(numCells.x*numCells.y);
-    return dpdNeighbourCell(cx, cy, cz, dpdStencilOffset(n, 0), dpdStencilOffset(n, 1), dpdStencilOffset(n, 2), numCells);
+DEVICE int dpdStencilCell(int4 coordinates, int n, int4 numCells) {
+    return dpdNeighbourCell(coordinates.x, coordinates.y, coordinates.z, dpdStencilOffset(n, 0), dpdStencilOffset(n, 1),
+                            dpdStencilOffset(n, 2), numCells);
 }
 
 #define DPD_OWN_CELL 13 // the stencil's centre (dpdStencilCell)
