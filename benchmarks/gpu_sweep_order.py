@@ -11,8 +11,8 @@ that it gets:
 - waiting for whole blocks (dpdSweepSchedule.cc today; gpu_cost_model.one_launch_schedule on
   as_profile's record): a block starts when every neighbour of an earlier colour is done, and applies
   its buffer of pairs in rounds (dpdApplyBufferedPairsInRounds, a
-  buffer at a time: DPD_SWEEP_PAIRS_PER_LANE x DPD_SWEEP_LANES pairs, applied when it could not take
-  another chunk of DPD_SWEEP_LANES candidates' pairs or at the block's last chunk);
+  buffer at a time: DPD_SWEEP_PAIRS_PER_LANE x DPD_SWEEP_LANES pairs, applied whenever it is full and
+  at the block's end);
 - waiting for each particle (not built): a pair goes as soon as the earlier pairs of its two particles
   are applied, in whichever block they were; the buffer's applications stay barriers within a block;
 - the order's own longest chain: no barrier at all, the least any schedule of these bits can take.
@@ -69,16 +69,9 @@ class SweptBlock:
     candidates: int
 
     def buffer_applications(self) -> List[range]:
-        """The pairs of each application of the buffer (positions in this block's pairs)."""
-        applications, first, k = [], 0, 0
-        chunks = -(-self.candidates // SWEEP_LANES)
-        for chunk in range(chunks):
-            while k < len(self.pair_chunk) and self.pair_chunk[k] == chunk:
-                k += 1
-            if k > first and (k - first > SWEEP_PAIRS - SWEEP_LANES or chunk == chunks - 1):
-                applications.append(range(first, k))
-                first = k
-        return applications
+        """The pairs of each application of the buffer (positions in this block's pairs): it is applied
+        whenever it is full, a row's pairs split across two applications if need be, and at the block's end."""
+        return [range(first, min(first + SWEEP_PAIRS, len(self.pair_i))) for first in range(0, len(self.pair_i), SWEEP_PAIRS)]
 
     def rounds(self) -> int:
         """The rounds of disjoint pairs the block takes: each application's longest chain, summed."""

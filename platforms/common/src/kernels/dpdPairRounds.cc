@@ -13,37 +13,6 @@
 #define DPD_SWEEP_SLICE (LOCAL_ID/DPD_SWEEP_LANES)
 #define DPD_SWEEP_LANE (LOCAL_ID%DPD_SWEEP_LANES)
 
-#if DPD_SWEEP_LANES%4 != 0
-#error "dpdCountFoundBefore reads the lanes' flags four to a word"
-#endif
-
-/**
- * The number of the slice's lanes before this one that found a pair (found: 0 or 1), which is where this
- * lane's pair goes in the buffer after the chunk's start, and in *total the chunk's pairs: each lane's flag
- * in a byte of flagWords (the slice's DPD_SWEEP_LANES/4 words), then, after one barrier, the words
- * before this lane's summed by a multiplication each (0x01010101 adds a word's four bytes into its top
- * byte) and the bytes of its own word before it added one by one, whatever the byte order.  A scan over
- * the lanes takes two barriers a doubling, twelve for 64 lanes.  Every lane of the work-group calls it;
- * no lane may write its flag again before every lane has read them (dpdLinkBufferedPairs' barriers come
- * between).
- */
-DEVICE int dpdCountFoundBefore(int found, LOCAL_ARG unsigned int* flagWords, int* total) {
-    int lane = DPD_SWEEP_LANE;
-    LOCAL_ARG unsigned char* flags = (LOCAL_ARG unsigned char*) flagWords;
-    flags[lane] = (unsigned char) found;
-    SYNC_THREADS;
-    int before = 0, all = 0;
-    for (int w = 0; w < DPD_SWEEP_LANES/4; w++) {
-        int count = (int) ((flagWords[w]*0x01010101u)>>24);
-        all += count;
-        before += w < lane/4 ? count : 0;
-    }
-    for (int k = lane-lane%4; k < lane; k++)
-        before += flags[k];
-    *total = all;
-    return before;
-}
-
 /**
  * For the pair this lane found at buffer position k (found: 1) in the chunk whose pairs fill positions
  * [chunkStart, chunkEnd): the latest earlier buffered pair that touches its i, and the one that touches

@@ -85,7 +85,7 @@ DEVICE void dpdInclusiveScanInPlace(LOCAL_ARG int* values, int n, LOCAL_ARG int*
  * what puts more blocks in flight), each slice with its own part of the local arrays.  The block's
  * particles and the partners they reach (its region) are read into local memory once (positions,
  * System indices, types, velocities); the lanes then examine the candidates DPD_SWEEP_LANES at a time,
- * in the sweep's order flattened over the whole block, buffer the pairs they find, and apply the buffer
+ * a row (particle i) a lane, count their pairs, put them in the buffer in the sweep's order after a scan of the counts, and apply the buffer
  * in rounds whenever it could not take another chunk's pairs, on the velocities in local memory; the
  * touched velocities go back at the block's end.  A region of more than DPD_SWEEP_CAPACITY particles
  * (a dense cluster) is swept the same way with every particle read from and written to global memory:
@@ -115,12 +115,11 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                            int recordRounds, GLOBAL int* RESTRICT blockRounds) {
     DPD_SWEEP_SLICE_ARRAY(int, regionFirst, DPD_SWEEP_MAX_REGION_CELLS+1);
     DPD_SWEEP_SLICE_ARRAY(int, regionGridStart, DPD_SWEEP_MAX_REGION_CELLS);
-    DPD_SWEEP_SLICE_ARRAY(int, cellFirstCandidate, DPD_SWEEP_MAX_BLOCK_CELLS+1);
-    DPD_SWEEP_SLICE_ARRAY(int, cellStencilCount, DPD_SWEEP_MAX_BLOCK_CELLS);
+    DPD_SWEEP_SLICE_ARRAY(int, cellFirstRow, DPD_SWEEP_MAX_BLOCK_CELLS+1);
     // Each block cell's region cell and those of its 13 half-stencil cells, found once a block for the decoding of every candidate.
     DPD_SWEEP_SLICE_ARRAY(unsigned char, cellRegion, DPD_SWEEP_MAX_BLOCK_CELLS);
     DPD_SWEEP_SLICE_ARRAY(unsigned char, stencilRegion, 13*DPD_SWEEP_MAX_BLOCK_CELLS);
-    DPD_SWEEP_SLICE_ARRAY(int, laneSums, DPD_SWEEP_LANES); // the block's scans, then the chunks' flags (dpdCountFoundBefore)
+    DPD_SWEEP_SLICE_ARRAY(int, laneSums, DPD_SWEEP_LANES); // the block's scans and the batches'
     DPD_SWEEP_SLICE_ARRAY(double, laneTotals, DPD_SWEEP_LANES);
     DPD_SWEEP_SLICE_ARRAY(int, regionAtom, DPD_SWEEP_HELD_SIZE);
     DPD_SWEEP_SLICE_ARRAY(int, regionOriginal, DPD_SWEEP_HELD_SIZE);
@@ -137,7 +136,8 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
     DPD_SWEEP_SLICE_ARRAY(unsigned short, pairAfterJ, DPD_SWEEP_PAIRS);
     DPD_SWEEP_SLICE_ARRAY(unsigned short, pairRound, DPD_SWEEP_PAIRS);
     LOCAL int pendingRounds[3*DPD_SWEEP_BLOCKS]; // three flags a slice (dpdApplyBufferedPairsInRounds)
-    LOCAL int sliceCandidates[DPD_SWEEP_BLOCKS], sliceApplies[DPD_SWEEP_BLOCKS]; // what the lockstep reads of every slice
+    LOCAL int sliceBusy[DPD_SWEEP_BLOCKS], sliceWindows[DPD_SWEEP_BLOCKS], sliceApplies[DPD_SWEEP_BLOCKS]; // what the lockstep reads of every slice
+    LOCAL int sliceResumeRow[DPD_SWEEP_BLOCKS], sliceResumeAt[DPD_SWEEP_BLOCKS]; // each slice's row the buffer's room ended in
     LOCAL int takenTicket, stillWaiting; // the schedule's (dpdSweepSchedule.cc)
     int lane = DPD_SWEEP_LANE;
     double maxCutoff2 = maxCutoff*maxCutoff;
@@ -178,7 +178,8 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
             regionFirst[rc+1] = cellStart[cell+1]-cellStart[cell];
         }
         dpdInclusiveScanInPlace(regionFirst, numRegionCells, laneSums);
-        // Each block cell's candidates, then where they start in the block's order.
+        // Each block cell's region cells (its own and its half stencil's), then where its rows (particles) start in the block's order.
+        int rowCandidates = 0; // this lane's cells' candidates, for the profile: n(n - 1)/2 + n H a cell, H its half stencil's particles
         for (int m = lane; m < numBlockCells; m += DPD_SWEEP_LANES) {
             int cx = x0+m%sizeX, cy = y0+(m/sizeX)%sizeY, cz = z0+m/(sizeX*sizeY);
             int rc = dpdRegionCell(cx, cy, cz, origin, regionSize, numCells);
@@ -190,14 +191,12 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                 stencilRegion[13*m+k] = (unsigned char) neighbour;
                 stencil += regionFirst[neighbour+1]-regionFirst[neighbour];
             }
-            cellStencilCount[m] = stencil;
-            cellFirstCandidate[m+1] = n*(n-1)/2+n*stencil;
+            cellFirstRow[m+1] = n;
+            rowCandidates += n*(n-1)/2+n*stencil;
         }
-        dpdInclusiveScanInPlace(cellFirstCandidate, numBlockCells, laneSums);
-        int numRegionAtoms = regionFirst[numRegionCells], numCandidates = cellFirstCandidate[numBlockCells];
+        dpdInclusiveScanInPlace(cellFirstRow, numBlockCells, laneSums);
+        int numRegionAtoms = regionFirst[numRegionCells], numRows = cellFirstRow[numBlockCells];
         int held = numRegionAtoms <= DPD_SWEEP_CAPACITY; // the region in local memory
-        if (lane == 0)
-            sliceCandidates[DPD_SWEEP_SLICE] = numCandidates;
         if (held)
             for (int r = lane; r < numRegionAtoms; r += DPD_SWEEP_LANES) {
                 int rc = dpdLastAtOrBelow(regionFirst, numRegionCells, r);
@@ -210,114 +209,153 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                 regionVelocity[r] = velm[atom];
                 regionLatestPair[r] = -1;
             }
-        SYNC_THREADS;
-        int mostCandidates = 0; // the lockstep's number of candidates: the most of any slice's block
-        for (int slice = 0; slice < DPD_SWEEP_BLOCKS; slice++)
-            mostCandidates = max(mostCandidates, sliceCandidates[slice]);
         double stress[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; // this lane's pairs' sums
         double response = 0.0;
-        int numBuffered = 0, numRounds = 0, numPairs = 0; // the same in every lane of the slice
-        for (int chunk = 0; chunk < mostCandidates; chunk += DPD_SWEEP_LANES) {
-            // Each lane examines one candidate; the pairs found are appended to the buffer in the sweep's order.
-            int c = chunk+lane, found = 0, atomI = 0, atomJ = 0;
-            DPDDissipativePair pair;
-            DPDPairUpdate update;
-            if (c < numCandidates) {
-                int q = reversed ? numCandidates-1-c : c; // in forward order
-                // Which block cell, which of its particles i, which partner j (region cells and offsets in them).
-                int m = dpdLastAtOrBelow(cellFirstCandidate, numBlockCells, q);
-                int cellI = cellRegion[m];
-                int n = regionFirst[cellI+1]-regionFirst[cellI], stencil = cellStencilCount[m];
-                int rest = q-cellFirstCandidate[m], t = 0;
-                while (rest >= n-1-t+stencil) {
-                    rest -= n-1-t+stencil;
-                    t++;
-                }
-                int cellJ = cellI, offsetJ = t+1+rest;
-                if (rest >= n-1-t) {
-                    rest -= n-1-t;
-                    for (int k = 0; k < 13; k++) {
-                        cellJ = stencilRegion[13*m+k];
-                        int count = regionFirst[cellJ+1]-regionFirst[cellJ];
-                        if (rest < count)
-                            break;
-                        rest -= count;
-                    }
-                    offsetJ = rest;
-                }
-                int slotI = regionFirst[cellI]+t, slotJ = regionFirst[cellJ]+offsetJ;
-                int originalI, originalJ, typeI, typeJ;
-                mixed4 pi, pj;
-                double invMassI, invMassJ;
-                if (held) {
-                    atomI = slotI;
-                    atomJ = slotJ;
-                    originalI = regionOriginal[slotI];
-                    originalJ = regionOriginal[slotJ];
-                    typeI = regionType[slotI];
-                    typeJ = regionType[slotJ];
-                    pi = regionPosition[slotI];
-                    pj = regionPosition[slotJ];
-                    invMassI = regionVelocity[slotI].w;
-                    invMassJ = regionVelocity[slotJ].w;
-                }
-                else {
-                    atomI = cellAtoms[regionGridStart[cellI]+t];
-                    atomJ = cellAtoms[regionGridStart[cellJ]+offsetJ];
-                    originalI = atomIndex[atomI];
-                    originalJ = atomIndex[atomJ];
-                    typeI = typeOf[originalI];
-                    typeJ = typeOf[originalJ];
-                    pi = DPD_POSITION(atomI);
-                    pj = DPD_POSITION(atomJ);
-                    invMassI = velm[atomI].w;
-                    invMassJ = velm[atomJ].w;
-                }
-                found = dpdFindDissipativePair(pi, pj, invMassI, invMassJ, typeI*numTypes+typeJ, friction, cutoff, maxCutoff2, boxSize,
-                                               inverseBoxSize, &pair);
-                if (found) {
-                    DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI, originalJ);
-                    if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK && adaptive) // PAdL: every pair with xi and sigma
-                        update = adaptiveOrnsteinUhlenbeckUpdate(adaptiveFriction, adaptiveNoise, pair.w, pair.invReducedMass,
-                                                                 1.0/pair.invReducedMass, dt, R.squaredRadius, R.cosine);
-                    else if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
-                        update = exactOrnsteinUhlenbeckUpdate(pair.gamma, pair.w, pair.invReducedMass, 1.0/pair.invReducedMass, kT, dt,
-                                                              R.squaredRadius, R.cosine);
-                    else
-                        update = bbkUpdate(pair.gamma, pair.w, pair.invReducedMass, kT, dt, dpdNormal(R));
-                }
-            }
-            int foundInChunk, chunkStart = numBuffered, position = chunkStart+dpdCountFoundBefore(found, (LOCAL_ARG unsigned int*) laneSums,
-                                                                                                &foundInChunk);
-            numBuffered += foundInChunk;
-            if (found) {
-                pairI[position] = atomI;
-                pairJ[position] = atomJ;
-                pairSlope[position] = update.slope;
-                pairOffset[position] = update.offset;
-            }
-            // The buffer is applied when it could not take another chunk's pairs, or at the block's last chunk.
-            int applies = numBuffered > 0 && (numBuffered > DPD_SWEEP_PAIRS-DPD_SWEEP_LANES || chunk+DPD_SWEEP_LANES >= numCandidates);
+        // The batches: lane l searches row nextRow + l of the sweep's order (the first from candidate resumeAt
+        // on), counting its pairs, then, with the batch's rows' counts scanned, puts them in the buffer in order
+        // as far as it has room; a row that does not fit is resumed by the next batch where it stopped.  The
+        // same in every lane of the slice.
+        int nextRow = 0, resumeAt = 0, numBuffered = 0, numRounds = 0, numPairs = 0;
+        for (;;) {
             if (lane == 0)
-                sliceApplies[DPD_SWEEP_SLICE] = applies; // read after the barriers of dpdLinkBufferedPairs
-            dpdLinkBufferedPairs(found, position, chunkStart, numBuffered, numPairs, held, pairI, pairJ,
-                                 pairAfterI, pairAfterJ, regionLatestPair);
+                sliceBusy[DPD_SWEEP_SLICE] = nextRow < numRows || numBuffered > 0;
+            SYNC_THREADS;
+            int anyBusy = 0;
+            for (int slice = 0; slice < DPD_SWEEP_BLOCKS; slice++)
+                anyBusy |= sliceBusy[slice];
+            if (!anyBusy)
+                break;
+            int row = nextRow+lane, start = lane == 0 ? resumeAt : 0, hasRow = row < numRows;
+            int forwardRow = reversed ? numRows-1-row : row, m = 0, t = 0;
+            if (hasRow) {
+                m = dpdLastAtOrBelow(cellFirstRow, numBlockCells, forwardRow);
+                t = forwardRow-cellFirstRow[m];
+            }
+            int cellI = hasRow ? cellRegion[m] : 0, slotI = regionFirst[cellI]+t, n = regionFirst[cellI+1]-regionFirst[cellI];
+            int atomI = held ? slotI : (hasRow ? cellAtoms[regionGridStart[cellI]+t] : 0), originalI = 0, typeI = 0;
+            mixed4 pi = make_mixed4(0, 0, 0, 0);
+            double invMassI = 0.0;
+            if (hasRow) {
+                originalI = held ? regionOriginal[slotI] : atomIndex[atomI];
+                typeI = held ? regionType[slotI] : typeOf[originalI];
+                pi = held ? regionPosition[slotI] : DPD_POSITION(atomI);
+                invMassI = held ? regionVelocity[slotI].w : velm[atomI].w;
+            }
+            // Pass 0 counts the row's pairs from `start` and marks the first 64 candidates' in foundBits; pass 1
+            // puts the first `allowed` of them in the buffer from `position` on, and finds where the row stops.
+            mm_ulong foundBits = 0;
+            int count = 0, allowed = 0, position = 0, stop = start, total = 0;
+            for (int pass = 0; pass < 2; pass++) {
+                int candidate = 0, taken = 0, full = pass == 1 && allowed == 0;
+                // The row's candidates in 14 runs: the later particles of i's cell, then the 13 half-stencil cells (backwards when reversed).
+                for (int run = 0; run < 14 && hasRow && !full; run++) {
+                    int forwardRun = reversed ? 13-run : run;
+                    int cellJ = forwardRun == 0 ? cellI : stencilRegion[13*m+forwardRun-1];
+                    int firstOffset = forwardRun == 0 ? t+1 : 0, runLength = regionFirst[cellJ+1]-regionFirst[cellJ]-firstOffset;
+                    if (candidate+runLength <= start) {
+                        candidate += runLength;
+                        continue;
+                    }
+                    for (int o = max(0, start-candidate); o < runLength; o++) {
+                        int offsetJ = firstOffset+(reversed ? runLength-1-o : o), c = candidate+o, bit = c-start;
+                        if (pass == 1 && bit < 64 && !((foundBits>>bit)&1))
+                            continue;
+                        if (pass == 1 && taken == allowed) {
+                            full = 1;
+                            break;
+                        }
+                        int slotJ = regionFirst[cellJ]+offsetJ;
+                        int atomJ = held ? slotJ : cellAtoms[regionGridStart[cellJ]+offsetJ];
+                        int originalJ = held ? regionOriginal[slotJ] : atomIndex[atomJ];
+                        int typeJ = held ? regionType[slotJ] : typeOf[originalJ];
+                        mixed4 pj = held ? regionPosition[slotJ] : DPD_POSITION(atomJ);
+                        double invMassJ = held ? regionVelocity[slotJ].w : velm[atomJ].w;
+                        DPDDissipativePair pair;
+                        if (!dpdFindDissipativePair(pi, pj, invMassI, invMassJ, typeI*numTypes+typeJ, friction, cutoff, maxCutoff2,
+                                                    boxSize, inverseBoxSize, &pair))
+                            continue;
+                        if (pass == 0) {
+                            count++;
+                            if (bit < 64)
+                                foundBits |= ((mm_ulong) 1)<<bit;
+                            continue;
+                        }
+                        DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI, originalJ);
+                        DPDPairUpdate update;
+                        if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK && adaptive) // PAdL: every pair with xi and sigma
+                            update = adaptiveOrnsteinUhlenbeckUpdate(adaptiveFriction, adaptiveNoise, pair.w, pair.invReducedMass,
+                                                                     1.0/pair.invReducedMass, dt, R.squaredRadius, R.cosine);
+                        else if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
+                            update = exactOrnsteinUhlenbeckUpdate(pair.gamma, pair.w, pair.invReducedMass, 1.0/pair.invReducedMass, kT, dt,
+                                                                  R.squaredRadius, R.cosine);
+                        else
+                            update = bbkUpdate(pair.gamma, pair.w, pair.invReducedMass, kT, dt, dpdNormal(R));
+                        pairI[position+taken] = atomI;
+                        pairJ[position+taken] = atomJ;
+                        pairSlope[position+taken] = update.slope;
+                        pairOffset[position+taken] = update.offset;
+                        taken++;
+                        stop = c+1;
+                    }
+                    candidate += runLength;
+                }
+                if (pass == 0) { // where each row's pairs go: the rows' counts scanned, as far as the buffer has room
+                    int before = dpdExclusiveScanOfLanes(count, laneSums, lane, DPD_SWEEP_LANES), room = DPD_SWEEP_PAIRS-numBuffered;
+                    total = laneSums[DPD_SWEEP_LANES-1];
+                    position = numBuffered+before;
+                    allowed = max(0, min(count, room-before));
+                }
+            }
+            // The row the buffer's room ended in, if any (the rows' pairs beyond room): the next batch's first, from where it stopped.
+            int room = DPD_SWEEP_PAIRS-numBuffered, before = position-numBuffered, linkStart = numBuffered;
+            if (hasRow && before <= room && before+count > room) {
+                sliceResumeRow[DPD_SWEEP_SLICE] = row;
+                sliceResumeAt[DPD_SWEEP_SLICE] = stop;
+            }
+            int numWritten = min(total, room);
+            numBuffered += numWritten;
+            if (lane == 0)
+                sliceWindows[DPD_SWEEP_SLICE] = (numWritten+DPD_SWEEP_LANES-1)/DPD_SWEEP_LANES;
+            SYNC_THREADS; // the pairs, the resumed row and the windows written
+            if (total <= room) { // every row of the batch fitted
+                nextRow = min(numRows, nextRow+DPD_SWEEP_LANES);
+                resumeAt = 0;
+            }
+            else {
+                nextRow = sliceResumeRow[DPD_SWEEP_SLICE];
+                resumeAt = sliceResumeAt[DPD_SWEEP_SLICE];
+            }
+            // Link the batch's pairs to their particles' earlier ones, DPD_SWEEP_LANES at a time.
+            int mostWindows = 0;
+            for (int slice = 0; slice < DPD_SWEEP_BLOCKS; slice++)
+                mostWindows = max(mostWindows, sliceWindows[slice]);
+            for (int window = 0; window < mostWindows; window++) {
+                int windowStart = linkStart+window*DPD_SWEEP_LANES, windowEnd = min(numBuffered, windowStart+DPD_SWEEP_LANES);
+                int k = windowStart+lane;
+                dpdLinkBufferedPairs(k < windowEnd, k, windowStart, windowEnd, numPairs, held, pairI, pairJ, pairAfterI, pairAfterJ,
+                                     regionLatestPair);
+            }
+            // The buffer is applied when full, or at the block's end.
+            int applies = numBuffered > 0 && (numBuffered == DPD_SWEEP_PAIRS || nextRow >= numRows);
+            if (lane == 0)
+                sliceApplies[DPD_SWEEP_SLICE] = applies;
+            SYNC_THREADS;
             int anyApplies = 0;
             for (int slice = 0; slice < DPD_SWEEP_BLOCKS; slice++)
                 anyApplies |= sliceApplies[slice];
-            if (!anyApplies)
-                continue; // room for another chunk's pairs in every slice (or nothing to apply)
-            int rounds = dpdApplyBufferedPairsInRounds(applies ? numBuffered : 0, held, DPD_POSITION_ARGUMENTS, velm, atomIndex, regionPosition,
-                                                       regionVelocity, regionOriginal, boxSize, inverseBoxSize,
-                                                       maxCutoff2, shearRate, gatherStress, withResponse, responseField, pairI, pairJ,
-                                                       pairSlope, pairOffset, pairAfterI, pairAfterJ, pairRound, pendingRounds,
-                                                       stress, &response);
-            if (applies) {
-                numRounds += rounds;
-                numPairs += numBuffered;
-                numBuffered = 0;
+            if (anyApplies) {
+                int rounds = dpdApplyBufferedPairsInRounds(applies ? numBuffered : 0, held, DPD_POSITION_ARGUMENTS, velm, atomIndex,
+                                                           regionPosition, regionVelocity, regionOriginal, boxSize, inverseBoxSize,
+                                                           maxCutoff2, shearRate, gatherStress, withResponse, responseField, pairI, pairJ,
+                                                           pairSlope, pairOffset, pairAfterI, pairAfterJ, pairRound, pendingRounds,
+                                                           stress, &response);
+                if (applies) {
+                    numRounds += rounds;
+                    numPairs += numBuffered;
+                    numBuffered = 0;
+                }
             }
-            SYNC_THREADS; // the buffer read before the next chunk refills it
+            SYNC_THREADS; // the buffer and the lockstep's flags read before the next batch writes them
         }
         if (held)
             for (int r = lane; r < numRegionAtoms; r += DPD_SWEEP_LANES)
@@ -334,6 +372,7 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
             if (lane == 0) // every turn's rows, summed in turn order; a spare row past them
                 blockResponse[active ? turn*blocksInColour+b : 8*blocksInColour+DPD_SWEEP_SLICE] = sum;
         }
+        int numCandidates = recordRounds ? (int) dpdSumOverLanes((double) rowCandidates, laneTotals) : 0; // (exact: an int's sum)
         if (lane == 0 && recordRounds) { // for the cost model (CommonDPDSweepProfile): this block's rounds, pairs and candidates
             int row = active ? colour*blocksInColour+b : 8*blocksInColour+DPD_SWEEP_SLICE; // a spare row past them
             blockRounds[3*row] = numRounds;
