@@ -231,7 +231,7 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                 m = dpdLastAtOrBelow(cellFirstRow, numBlockCells, forwardRow);
                 t = forwardRow-cellFirstRow[m];
             }
-            int cellI = hasRow ? cellRegion[m] : 0, slotI = regionFirst[cellI]+t, n = regionFirst[cellI+1]-regionFirst[cellI];
+            int cellI = hasRow ? cellRegion[m] : 0, slotI = regionFirst[cellI]+t;
             int atomI = held ? slotI : (hasRow ? cellAtoms[regionGridStart[cellI]+t] : 0), originalI = 0, typeI = 0;
             mixed4 pi = make_mixed4(0, 0, 0, 0);
             double invMassI = 0.0;
