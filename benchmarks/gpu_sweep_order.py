@@ -58,14 +58,13 @@ def block_of_colour(blocks: Sequence[int], colour: int, number: int) -> Tuple[in
 @dataclass
 class SweptBlock:
     """One block of the sweep, in ticket order: its colour, its number among the colour's blocks, its
-    pairs (System indices) in the sweep's order and the chunk of candidates that found each."""
+    pairs (System indices) in the sweep's order and its number of candidates."""
 
     colour: int
     number: int
     coordinates: Tuple[int, int, int]
     pair_i: List[int]
     pair_j: List[int]
-    pair_chunk: List[int]
     candidates: int
 
     def buffer_applications(self) -> List[range]:
@@ -186,7 +185,7 @@ def sweep_order(positions: np.ndarray, box: Sequence[float], radius: float) -> S
             b = xyz[0] + blocks[0] * (xyz[1] + blocks[1] * xyz[2])
             lo, hi = bounds[b], bounds[b + 1]
             swept.append(SweptBlock(colour, number, xyz, pair_i[lo:hi].tolist(), pair_j[lo:hi].tolist(),
-                                    (candidate[lo:hi] // SWEEP_LANES).tolist(), int(block_candidates[b])))
+                                    int(block_candidates[b])))
     return SweepOrder(cells, blocks, swept, n)
 
 

@@ -17,9 +17,9 @@
  *
  * Each pair update is Delta p = slope u + offset along e_ij (DPDPairFormulas.h), with slope and offset
  * independent of the velocities: the lanes compute, in parallel, everything of the block's candidate
- * pairs that the positions and random numbers decide (e_ij, r, slope, offset), one candidate a lane,
- * from the block's region held in local memory (dpdSweepColours), and append the pairs they find to a
- * buffer in the sweep's order.  The buffered pairs are then applied in rounds of pairs that share no
+ * pairs that the positions and random numbers decide (e_ij, r, slope, offset), one row (a particle i
+ * and its partners) a lane, from the block's region held in local memory (dpdSweepColours), and put the
+ * pairs they find in a buffer in the sweep's order.  The buffered pairs are then applied in rounds of pairs that share no
  * particle, every lane at once (dpdApplyBufferedPairsInRounds): each particle sees its pairs in the
  * sweep's order with the same arithmetic, so the result is the sequential sweep's bits whatever the
  * number of lanes, and the chain of dependent updates is the depth of the pairs' dependencies in the
@@ -84,22 +84,24 @@ DEVICE void dpdInclusiveScanInPlace(LOCAL_ARG int* values, int n, LOCAL_ARG int*
  * DPD_SWEEP_LANES lanes of a work-group per block, DPD_SWEEP_BLOCKS blocks a work-group side by side (OpenMM caps a launch's work-groups, so this is
  * what puts more blocks in flight), each slice with its own part of the local arrays.  The block's
  * particles and the partners they reach (its region) are read into local memory once (positions,
- * System indices, types, velocities); the lanes then examine the candidates DPD_SWEEP_LANES at a time,
- * a row (particle i) a lane, count their pairs, put them in the buffer in the sweep's order after a scan of the counts, and apply the buffer
- * in rounds whenever it could not take another chunk's pairs, on the velocities in local memory; the
- * touched velocities go back at the block's end.  A region of more than DPD_SWEEP_CAPACITY particles
+ * System indices, types, velocities); the lanes then search the block's rows DPD_SWEEP_LANES at a time,
+ * a row a lane: each counts its row's pairs, the counts are scanned, and each puts its pairs in the
+ * buffer from its row's place on, as far as the buffer has room (the row the room ends in is resumed by
+ * the next batch where it stopped); the buffer is applied in rounds whenever it is full and at the
+ * block's end, on the velocities in local memory; the touched velocities go back at the block's end.  A region of more than DPD_SWEEP_CAPACITY particles
  * (a dense cluster) is swept the same way with every particle read from and written to global memory:
  * the same pairs, numbers and updates, in the same order (tested), only slower.
  *
  * The slices run in lockstep, the barriers being the work-group's: every loop runs as often as the
- * slice that needs it most asks (the candidates of the block with the most, the rounds of the slice
- * with the deepest buffer), a slice with nothing to do passing through.  Each slice's buffer fills and
+ * slice that needs it most asks (the batches of the block with the most, the link windows of the
+ * slice with the most new pairs, the rounds of the slice with the deepest buffer), a slice with nothing to do passing through.  Each slice's buffer fills and
  * is applied at the points it would be alone, and its lanes own the same pairs, so each block's bits,
  * its sums included, are those of one block a work-group (tested).
  *
- * The candidates of a block: for each of its cells (z, y, x), each particle i of the cell (in order),
- * the later particles of i's cell, then those of the 13 half-stencil cells in order; a cell of n
- * particles whose half stencil holds H has n(n-1)/2 + nH of them, particle t of it n-1-t+H.
+ * The rows of a block: for each of its cells (z, y, x), each particle i of the cell (in order); a row's
+ * candidates are the later particles of i's cell, then those of the 13 half-stencil cells in order (a
+ * cell of n particles whose half stencil holds H has n(n-1)/2 + nH of them, particle t's row n-1-t+H);
+ * `reversed` takes the rows, and each row's candidates, backwards.
  */
 #define DPD_SWEEP_SLICE_ARRAY(type, name, size) LOCAL type name##OfSlices[DPD_SWEEP_BLOCKS*(size)]; \
     LOCAL_ARG type* name = name##OfSlices+DPD_SWEEP_SLICE*(size)
@@ -116,7 +118,7 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
     DPD_SWEEP_SLICE_ARRAY(int, regionFirst, DPD_SWEEP_MAX_REGION_CELLS+1);
     DPD_SWEEP_SLICE_ARRAY(int, regionGridStart, DPD_SWEEP_MAX_REGION_CELLS);
     DPD_SWEEP_SLICE_ARRAY(int, cellFirstRow, DPD_SWEEP_MAX_BLOCK_CELLS+1);
-    // Each block cell's region cell and those of its 13 half-stencil cells, found once a block for the decoding of every candidate.
+    // Each block cell's region cell and those of its 13 half-stencil cells, found once a block for every row's search.
     DPD_SWEEP_SLICE_ARRAY(unsigned char, cellRegion, DPD_SWEEP_MAX_BLOCK_CELLS);
     DPD_SWEEP_SLICE_ARRAY(unsigned char, stencilRegion, 13*DPD_SWEEP_MAX_BLOCK_CELLS);
     DPD_SWEEP_SLICE_ARRAY(int, laneSums, DPD_SWEEP_LANES); // the block's scans and the batches'
@@ -218,7 +220,7 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
         int nextRow = 0, resumeAt = 0, numBuffered = 0, numRounds = 0, numPairs = 0;
         for (;;) {
             if (lane == 0)
-                sliceBusy[DPD_SWEEP_SLICE] = nextRow < numRows || numBuffered > 0;
+                sliceBusy[DPD_SWEEP_SLICE] = nextRow < numRows; // (a buffer left over is applied when the rows run out)
             SYNC_THREADS;
             int anyBusy = 0;
             for (int slice = 0; slice < DPD_SWEEP_BLOCKS; slice++)
@@ -242,9 +244,9 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                 invMassI = held ? regionVelocity[slotI].w : velm[atomI].w;
             }
             // Pass 0 counts the row's pairs from `start` and marks the first 64 candidates' in foundBits; pass 1
-            // puts the first `allowed` of them in the buffer from `position` on, and finds where the row stops.
+            // puts the first `allowed` of them in the buffer from numBuffered + `before` on, and finds where the row stops.
             mm_ulong foundBits = 0;
-            int count = 0, allowed = 0, position = 0, stop = start, total = 0;
+            int room = DPD_SWEEP_PAIRS-numBuffered, count = 0, before = 0, allowed = 0, stop = start, total = 0;
             for (int pass = 0; pass < 2; pass++) {
                 int candidate = 0, taken = 0, full = pass == 1 && allowed == 0;
                 // The row's candidates in 14 runs: the later particles of i's cell, then the 13 half-stencil cells (backwards when reversed).
@@ -290,25 +292,24 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                                                                   R.squaredRadius, R.cosine);
                         else
                             update = bbkUpdate(pair.gamma, pair.w, pair.invReducedMass, kT, dt, dpdNormal(R));
-                        pairI[position+taken] = atomI;
-                        pairJ[position+taken] = atomJ;
-                        pairSlope[position+taken] = update.slope;
-                        pairOffset[position+taken] = update.offset;
+                        pairI[numBuffered+before+taken] = atomI;
+                        pairJ[numBuffered+before+taken] = atomJ;
+                        pairSlope[numBuffered+before+taken] = update.slope;
+                        pairOffset[numBuffered+before+taken] = update.offset;
                         taken++;
                         stop = c+1;
                     }
                     candidate += runLength;
                 }
                 if (pass == 0) { // where each row's pairs go: the rows' counts scanned, as far as the buffer has room
-                    int before = dpdExclusiveScanOfLanes(count, laneSums, lane, DPD_SWEEP_LANES), room = DPD_SWEEP_PAIRS-numBuffered;
+                    before = dpdExclusiveScanOfLanes(count, laneSums, lane, DPD_SWEEP_LANES);
                     total = laneSums[DPD_SWEEP_LANES-1];
-                    position = numBuffered+before;
                     allowed = max(0, min(count, room-before));
                 }
             }
             // The row the buffer's room ended in, if any (the rows' pairs beyond room): the next batch's first, from where it stopped.
-            int room = DPD_SWEEP_PAIRS-numBuffered, before = position-numBuffered, linkStart = numBuffered;
-            if (hasRow && before <= room && before+count > room) {
+            int linkStart = numBuffered;
+            if (before <= room && before+count > room) {
                 sliceResumeRow[DPD_SWEEP_SLICE] = row;
                 sliceResumeAt[DPD_SWEEP_SLICE] = stop;
             }
