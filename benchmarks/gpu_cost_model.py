@@ -31,11 +31,16 @@ What is counted, and what is assumed:
   block's region and writes the velocities back, so its bytes scale with the region's size.  Caches can
   only lower them.
 - **Time** = launches x launch overhead + the sum over the kernels of max(bytes / bandwidth, the
-  kernel's latency), where the sweep's latency is its critical path: per colour, the largest over the
-  work-groups of the sum over its blocks of (block setup + candidate chunks x chunk latency + rounds x
-  round latency), in cycles at the GPU's clock.  The cycle figures are estimates (local-memory round
-  trips of ~30 cycles, a barrier, ~15 dependent double operations of ~8 cycles for a round; the
-  coefficients' exp, sqrt and random numbers for a chunk), to be calibrated where a GPU is lent.
+  kernel's latency), where the sweep's latency is its critical path: the one launch's schedule with
+  each block lasting its setup + its search + its link windows + its rounds, in cycles at the GPU's
+  clock.  The search goes a batch of rows at a time, a row a lane, so a batch lasts as long as its
+  slowest lane: the profile records, summed over a block's batches, the candidates that lane tested and
+  the pairs it put in the buffer; the pairs' coefficients (random numbers, sqrt, exp) are found when the
+  buffer is applied, by the lane that applies each pair, so they take a pair a lane at a time (the
+  profile's applied windows).  The cycle
+  figures are estimates (local-memory round trips of ~30 cycles, a barrier, ~8 cycles a dependent double
+  operation: ~15 of them for a round, ~10 and four loads for a candidate, Philox, Box-Muller and exp for
+  a pair's coefficients), to be calibrated where a GPU is lent.
 
 Usage: python benchmarks/gpu_cost_model.py [--sizes N ...] [--platform OpenCL] [--out FILE.md]
 """
@@ -80,10 +85,15 @@ H200 = TargetGpu("NVIDIA H200 SXM", 4.3e12, 3e-6, 1.98e9, 6 * 132,
                  "4.8 TB/s HBM3e (datasheet), 4.3 TB/s achievable (../shared/GPU.md); 132 SMs x OpenMM's 6 "
                  "work-groups each = 792; 1.98 GHz boost; 3 us a dependent launch (CUDA's typical 2-5 us)", 4 * 132)
 
-# Cycles of the sweep's pieces on the target (estimates, see the module's docstring).
-CYCLES_PER_ROUND = 250
-CYCLES_PER_CANDIDATE_CHUNK = 1500
+# Cycles of the sweep's pieces on the target (estimates, see the module's docstring), each on a block's
+# critical path: the profile's columns (CommonDPDSweepProfile) say how many of each a block takes.
 CYCLES_PER_BLOCK = 2500  # the region's cells, counts and scans, its particles into local memory, the write-back
+CYCLES_PER_BATCH = 1000  # a batch of rows: each lane's row found, the rows' counts scanned, the lockstep's barriers
+CYCLES_PER_CANDIDATE_TEST = 100  # the slowest lane's test of a candidate: its local loads, the minimum image, r^2
+CYCLES_PER_PAIR_TAKEN = 50  # the slowest lane's pair put in the buffer: its two particles' slots
+CYCLES_PER_LINK_WINDOW = 1000  # a window of a lane's pair each linked to its particles' earlier pairs
+CYCLES_PER_APPLIED_WINDOW = 1500  # a lane's pair of an application, found again with its coefficients: Philox, Box-Muller, exp
+CYCLES_PER_ROUND = 250  # a round of disjoint pairs: velocities from local memory, the update, a barrier
 
 # Bytes per particle each kernel moves in mixed precision (positions: float4 + float4 correction, 32 B;
 # velocities: double4, 32 B; forces: three 64-bit fixed-point values, 24 B), an array read or written once.
@@ -169,7 +179,11 @@ def one_launch_schedule(sweep: dict, groups: int, blocks_at_once: int, duration:
 
 
 def block_cycles(entry: dict, b: int) -> float:
-    return CYCLES_PER_BLOCK + -(-entry["candidates"][b] // 64) * CYCLES_PER_CANDIDATE_CHUNK + entry["rounds"][b] * CYCLES_PER_ROUND
+    """Block b's latency in cycles: its setup, its search's batches (each as slow as its slowest lane), its
+    link windows, its pairs' coefficients (a pair a lane at a time) and its rounds."""
+    return (CYCLES_PER_BLOCK + entry["batches"][b] * CYCLES_PER_BATCH + entry["slowestLaneTests"][b] * CYCLES_PER_CANDIDATE_TEST +
+            entry["slowestLanePairs"][b] * CYCLES_PER_PAIR_TAKEN + entry["windows"][b] * CYCLES_PER_LINK_WINDOW +
+            entry["appliedWindows"][b] * CYCLES_PER_APPLIED_WINDOW + entry["rounds"][b] * CYCLES_PER_ROUND)
 
 
 @dataclass
@@ -277,11 +291,13 @@ def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: 
 def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optional[Dict[int, float]] = None) -> List[str]:
     lines = [f"## Cost model of the ABOBA step (a model, not a measurement) for an {gpu.name}", "",
              f"Launches counted and the sweep profiled on {device}; target figures: {gpu.source}.  Sweep cycles "
-             f"(estimates): {CYCLES_PER_ROUND} a round, {CYCLES_PER_CANDIDATE_CHUNK} a chunk of 64 candidates, "
-             f"{CYCLES_PER_BLOCK} a block.  Bench scene: rho = 3, gamma = 4.5, dt = 0.04, mixed precision.", "",
+             f"(estimates, on a block's critical path): {CYCLES_PER_BLOCK} a block, {CYCLES_PER_BATCH} a batch of rows, "
+             f"{CYCLES_PER_CANDIDATE_TEST} a candidate and {CYCLES_PER_PAIR_TAKEN} a pair of a batch's slowest lane, "
+             f"{CYCLES_PER_LINK_WINDOW} a link window, {CYCLES_PER_APPLIED_WINDOW} a pair a lane's coefficients, "
+             f"{CYCLES_PER_ROUND} a round.  Bench scene: rho = 3, gamma = 4.5, dt = 0.04, mixed precision.", "",
              "| N | launches/step | bytes/particle-step (model) | sweep: blocks a work-group sweeps in turn | rounds/block "
              "| pairs/block | critical path, dependent updates a step, all colours in one launch: rounds (lane 0's chain before them) "
-             "| a launch a colour | with 2, 4 blocks a work-group side by side, one launch (OPENMMDPD_GPU_SWEEP_BLOCKS; 4 holds 12 particles a region locally, so every region takes the global path) "
+             "| a launch a colour | with 2, 4 blocks a work-group side by side, one launch (OPENMMDPD_GPU_SWEEP_BLOCKS; 4 hold 63 particles a region locally in mixed precision, so nearly every region takes the global path) "
              "| every block in flight, each after its whole neighbours (the emulated order's) "
              f"| each pair after its own particles' earlier pairs, {gpu.concurrent_work_groups} work-groups (every block in flight) "
              "| the pair order's longest chain | expected time/step | expected particle-steps/s | measured time/step |",

@@ -33,6 +33,8 @@ import numpy as np
 SWEEP_LANES = 64  # CommonDPDProgram::sweepLanes
 SWEEP_PAIRS_PER_LANE = 4  # CommonDPDProgram::sweepPairsPerLane
 SWEEP_PAIRS = SWEEP_LANES * SWEEP_PAIRS_PER_LANE
+# A block's values in the sweep's profile, in order (CommonDPDSweepProfile::columnNames).
+PROFILE_COLUMNS = ("rounds", "pairs", "candidates", "batches", "windows", "slowestLaneTests", "slowestLanePairs", "appliedWindows")
 
 # The 13 half-stencil offsets (dx, dy, dz): those after (0, 0, 0) of the 27 in (dz, dy, dx) order (dpdHalfStencilOffset).
 HALF_STENCIL = [((k + 14) % 3 - 1, ((k + 14) // 3) % 3 - 1, (k + 14) // 9 - 1) for k in range(13)]
@@ -58,7 +60,8 @@ def block_of_colour(blocks: Sequence[int], colour: int, number: int) -> Tuple[in
 @dataclass
 class SweptBlock:
     """One block of the sweep, in ticket order: its colour, its number among the colour's blocks, its
-    pairs (System indices) in the sweep's order and its number of candidates."""
+    pairs (System indices) in the sweep's order, its number of candidates, its rows' numbers of
+    candidates (a row a particle i, in the sweep's order) and each pair's row and candidate in its row."""
 
     colour: int
     number: int
@@ -66,11 +69,53 @@ class SweptBlock:
     pair_i: List[int]
     pair_j: List[int]
     candidates: int
+    row_candidates: List[int]
+    pair_row: List[int]
+    pair_in_row: List[int]
 
     def buffer_applications(self) -> List[range]:
         """The pairs of each application of the buffer (positions in this block's pairs): it is applied
         whenever it is full, a row's pairs split across two applications if need be, and at the block's end."""
         return [range(first, min(first + SWEEP_PAIRS, len(self.pair_i))) for first in range(0, len(self.pair_i), SWEEP_PAIRS)]
+
+    def search(self) -> Tuple[int, int, int, int]:
+        """What the block's search takes, as dpdSweepColours searches: batches of SWEEP_LANES rows, a row a
+        lane, each row's pairs counted, the counts scanned and the pairs put in the buffer as far as it has
+        room, the row the room ends in resumed by the next batch from the candidate after its last pair
+        taken; the buffer applied when full and at the block's end.  Returns the batches, their link windows
+        (SWEEP_LANES pairs a window) and, over the batches, the candidates the slowest lane tested and the
+        pairs it took (CommonDPDSweepProfile's columns)."""
+        offsets: List[List[int]] = [[] for _ in self.row_candidates]
+        for row, in_row in zip(self.pair_row, self.pair_in_row):
+            offsets[row].append(in_row)  # in the sweep's order, so each row's ascending
+        next_row, resume_at, buffered = 0, 0, 0
+        batches = windows = tests = taken = 0
+        while next_row < len(self.row_candidates):
+            room, before, slowest_tests, slowest_taken, resume = SWEEP_PAIRS - buffered, 0, 0, 0, None
+            for lane, row in enumerate(range(next_row, min(len(self.row_candidates), next_row + SWEEP_LANES))):
+                start = resume_at if lane == 0 else 0
+                found = [c for c in offsets[row] if c >= start]
+                allowed = max(0, min(len(found), room - before))
+                if before <= room < before + len(found):
+                    resume = (row, found[allowed - 1] + 1 if allowed > 0 else start)
+                before += len(found)
+                slowest_tests = max(slowest_tests, self.row_candidates[row] - start)
+                slowest_taken = max(slowest_taken, allowed)
+            written = min(before, room)
+            batches, windows = batches + 1, windows + -(-written // SWEEP_LANES)
+            tests, taken = tests + slowest_tests, taken + slowest_taken
+            buffered += written
+            if before <= room:
+                next_row, resume_at = min(len(self.row_candidates), next_row + SWEEP_LANES), 0
+            else:
+                next_row, resume_at = resume  # type: ignore[misc]
+            if buffered == SWEEP_PAIRS or next_row >= len(self.row_candidates):
+                buffered = 0
+        return batches, windows, tests, taken
+
+    def applied_windows(self) -> int:
+        """Over the buffer's applications, the most pairs a lane applies (lane l owns pairs l, l + SWEEP_LANES, ...)."""
+        return sum(-(-len(application) // SWEEP_LANES) for application in self.buffer_applications())
 
     def rounds(self) -> int:
         """The rounds of disjoint pairs the block takes: each application's longest chain, summed."""
@@ -157,6 +202,14 @@ def sweep_order(positions: np.ndarray, box: Sequence[float], radius: float) -> S
     cell_first_candidate[in_order] = running - first_of_block[block_index[in_order]]
     block_candidates = np.zeros(num_blocks, np.int64)
     np.add.at(block_candidates, block_index, cell_candidates)
+    # The rows (particles i) in the blocks' order, each with its candidates n - 1 - t + H, and each cell's first row in its block.
+    row_cell = np.repeat(in_order, counts[in_order])
+    rows_running = np.cumsum(counts[in_order]) - counts[in_order]
+    row_t = np.arange(len(row_cell)) - np.repeat(rows_running, counts[in_order])
+    row_length = counts[row_cell] - 1 - row_t + stencil[row_cell]
+    row_bounds = np.searchsorted(block_index[row_cell], np.arange(num_blocks + 1))
+    cell_first_row = np.empty(num_cells, np.int64)
+    cell_first_row[in_order] = rows_running - row_bounds[block_index[in_order]]
 
     # A pair's candidate number in its block: the rows of the particles before i in its cell, then i's own.
     cell_i, t = cell_of[pair_i], slot[pair_i]
@@ -169,10 +222,12 @@ def sweep_order(positions: np.ndarray, box: Sequence[float], radius: float) -> S
         stencil_before[later] += counts[moved[:, 0] + cells[0] * (moved[:, 1] + cells[1] * moved[:, 2])]
     in_row = np.where(pair_k == -1, slot[pair_j] - t - 1, count_i - 1 - t + stencil_before + slot[pair_j])
     candidate = cell_first_candidate[cell_i] + rows_before + in_row
+    pair_row = cell_first_row[cell_i] + t
 
     pair_block = block_index[cell_i]
     sequence = np.lexsort((candidate, pair_block))
     pair_i, pair_j, pair_block, candidate = pair_i[sequence], pair_j[sequence], pair_block[sequence], candidate[sequence]
+    pair_row, in_row = pair_row[sequence], in_row[sequence]
     bounds = np.searchsorted(pair_block, np.arange(num_blocks + 1))
 
     swept = []
@@ -185,19 +240,20 @@ def sweep_order(positions: np.ndarray, box: Sequence[float], radius: float) -> S
             b = xyz[0] + blocks[0] * (xyz[1] + blocks[1] * xyz[2])
             lo, hi = bounds[b], bounds[b + 1]
             swept.append(SweptBlock(colour, number, xyz, pair_i[lo:hi].tolist(), pair_j[lo:hi].tolist(),
-                                    int(block_candidates[b])))
+                                    int(block_candidates[b]), row_length[row_bounds[b]:row_bounds[b + 1]].tolist(),
+                                    pair_row[lo:hi].tolist(), in_row[lo:hi].tolist()))
     return SweepOrder(cells, blocks, swept, n)
 
 
 def as_profile(order: SweepOrder) -> dict:
     """The emulated sweep as OPENMMDPD_GPU_SWEEP_PROFILE records one (CommonDPDSweepProfile): each used
-    colour's blocks' rounds, pairs and candidates, which the cost model's schedules take."""
+    colour's blocks' PROFILE_COLUMNS, which the cost model's schedules take."""
     colours: dict = {}
     for block in order.swept:
-        entry = colours.setdefault(block.colour, {"colour": block.colour, "rounds": [], "pairs": [], "candidates": []})
-        entry["rounds"].append(block.rounds())
-        entry["pairs"].append(len(block.pair_i))
-        entry["candidates"].append(block.candidates)
+        entry = colours.setdefault(block.colour, {"colour": block.colour, **{name: [] for name in PROFILE_COLUMNS}})
+        for name, value in zip(PROFILE_COLUMNS, (block.rounds(), len(block.pair_i), block.candidates) + block.search() +
+                               (block.applied_windows(),)):
+            entry[name].append(value)
     blocks_per_colour = max(len(entry["rounds"]) for entry in colours.values())
     return {"mode": "O", "reversed": False, "cells": order.cells, "blocks": order.blocks, "blocksPerColour": blocks_per_colour,
             "colours": list(colours.values())}

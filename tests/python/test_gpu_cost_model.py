@@ -21,7 +21,9 @@ def gpu_with(work_groups: int) -> model.TargetGpu:
 def synthetic_sweep(colours, blocks=(4, 4, 4), reversed_sweep=False):
     return {"mode": "O", "reversed": reversed_sweep, "cells": [2 * n for n in blocks], "blocks": list(blocks),
             "blocksPerColour": len(colours[0]),
-            "colours": [{"colour": n, "rounds": c, "pairs": [4 * r for r in c], "candidates": [64 * r for r in c]}
+            "colours": [{"colour": n, "rounds": c, "pairs": [4 * r for r in c], "candidates": [64 * r for r in c],
+                         "batches": [1 for r in c], "windows": [1 for r in c], "slowestLaneTests": [8 * r for r in c],
+                         "slowestLanePairs": [r for r in c], "appliedWindows": [1 for r in c]}
                         for n, c in enumerate(colours)]}
 
 

@@ -27,7 +27,7 @@ public:
     static constexpr int sweepPairsPerLane = 4;
     /**
      * How many blocks of a colour one of the sweep's work-groups sweeps side by side, sweepLanes lanes
-     * each (dpdPairSweep.cc): 1, or the environment variable OPENMMDPD_GPU_SWEEP_BLOCKS (from 1 to 4,
+     * each (dpdPairSweep.cc): 1, or the environment variable OPENMMDPD_GPU_SWEEP_BLOCKS (from 1 to 6,
      * as many as CUDA's 48 KiB of static shared memory holds the arrays of, and the device's work-group
      * size allows).  OpenMM caps a launch's work-groups at a few a multiprocessor, so more blocks a
      * work-group puts more blocks in flight, each with less local memory for its region; the bits are
@@ -38,9 +38,9 @@ public:
     /**
      * How many particles of a block's region (the block and the cells its pairs reach) the sweep holds
      * in local memory: what 34 KiB leaves after the sweep's other arrays with one block a work-group, what
-     * 48 KiB leaves shared among several (CommonDPDProgram.cpp says why: 293 particles in mixed and double
-     * precision, 489 in single; with two blocks 165 and 276), or the environment variable
-     * OPENMMDPD_GPU_SWEEP_CAPACITY (from 0 to what 48 KiB holds, 472 or 788 with one block: for a device
+     * 48 KiB leaves shared among several (CommonDPDProgram.cpp says why: 344 particles in mixed and double
+     * precision, 574 in single; with two blocks 216 and 361), or the environment variable
+     * OPENMMDPD_GPU_SWEEP_CAPACITY (from 0 to what 48 KiB holds, 523 or 873 with one block: for a device
      * with less or more local memory, or to test the path of regions that do not fit).  A region with
      * more particles is swept in global memory: the same bits, more slowly.
      */

@@ -1,6 +1,7 @@
 #include "CommonDPDProgram.h"
 #include "CommonDPDCellGrid.h"
 #include "CommonDPDKernelSources.h"
+#include "CommonDPDSweepProfile.h"
 #include "DPDKernelSources.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
@@ -27,6 +28,7 @@ OpenMM::ComputeProgram CommonDPDProgram::compile(OpenMM::ComputeContext& cc, con
     defines["DPD_SWEEP_LANES"] = cc.intToString(sweepLanes);
     defines["DPD_SWEEP_BLOCKS"] = cc.intToString(sweepBlocks(cc));
     defines["DPD_SWEEP_PAIRS_PER_LANE"] = cc.intToString(sweepPairsPerLane);
+    defines["DPD_SWEEP_PROFILE_COLUMNS"] = cc.intToString(CommonDPDSweepProfile::numColumns);
     defines["DPD_SWEEP_IN_ROUNDS"] = sweepInRounds() ? "1" : "0";
     defines["DPD_KERNEL_SOURCE"] = "";
     std::string source = std::string("#if defined(__OPENCL_VERSION__)\n#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n#endif\n")+
@@ -43,13 +45,13 @@ constexpr int largestLocalBytes = 48*1024;
 /**
  * dpdSweepColours' local bytes a block other than its region's particles: the region's cells and the
  * block's (ints; a byte for each block cell's region cell and 13 for its half stencil's), the lanes' int
- * and double sums and three flags, two ints for the lockstep, two for the schedule, and the buffer of pairs (two ints, two
- * doubles, three shorts each, sweepPairsPerLane a lane).
+ * and double sums and three flags, two ints for the lockstep, two for the schedule, and the buffer of pairs (two ints and
+ * three shorts each, sweepPairsPerLane a lane: the lane that applies a pair finds its coefficients).
  */
 int sweepBytesBesideTheRegion() {
     int width = CommonDPDCellGrid::maxBlockWidth, lanes = CommonDPDProgram::sweepLanes;
     int cellBytes = 4*(2*(width+2)*(width+2)*(width+1)+1+2*width*width*width+1+lanes+3+2+2)+8*lanes+14*width*width*width;
-    return cellBytes+CommonDPDProgram::sweepPairsPerLane*lanes*(2*4+2*8+3*2);
+    return cellBytes+CommonDPDProgram::sweepPairsPerLane*lanes*(2*4+3*2);
 }
 
 /** A whole number from an environment variable, from smallest to largest, or an exception naming it and the range. */

@@ -14,11 +14,11 @@ CommonDPDSweepProfile::CommonDPDSweepProfile(OpenMM::ComputeContext& cc) : cc(cc
         if (!file)
             throw OpenMM::OpenMMException("OPENMMDPD_GPU_SWEEP_PROFILE is '"+path+"': that file cannot be opened for writing");
     }
-    blockRows.initialize<int>(cc, 3, "dpdSweepProfile");
+    blockRows.initialize<int>(cc, numColumns, "dpdSweepProfile");
 }
 
 OpenMM::ComputeArray& CommonDPDSweepProfile::rows(const CommonDPDCellGrid::Layout& layout, int spareRows) {
-    int size = isRecording() ? 3*(layout.numColours*layout.blocksPerColour+spareRows) : 3;
+    int size = isRecording() ? numColumns*(layout.numColours*layout.blocksPerColour+spareRows) : numColumns;
     if (static_cast<int>(blockRows.getSize()) < size)
         blockRows.resize(size);
     return blockRows;
@@ -37,12 +37,11 @@ void CommonDPDSweepProfile::write(const CommonDPDCellGrid::Layout& layout, const
     for (int n = 0; n < layout.numColours; n++) {
         if (!layout.colourIsUsed(n))
             continue;
-        const char* names[3] = {"rounds", "pairs", "candidates"};
         file << (firstColour ? "{" : ", {") << "\"colour\": " << n << ", ";
-        for (int column = 0; column < 3; column++) {
-            file << (column == 0 ? "\"" : "], \"") << names[column] << "\": [";
+        for (int column = 0; column < numColumns; column++) {
+            file << (column == 0 ? "\"" : "], \"") << columnNames[column] << "\": [";
             for (int b = 0; b < layout.blocksPerColour; b++)
-                file << (b == 0 ? "" : ", ") << values[3*(n*layout.blocksPerColour+b)+column];
+                file << (b == 0 ? "" : ", ") << values[numColumns*(n*layout.blocksPerColour+b)+column];
         }
         file << "]}";
         firstColour = false;

@@ -226,10 +226,10 @@ TEST(GPUSweep, SweepSettingsOutOfRangeRaiseNamingThem) {
         EnvironmentSetting order("OPENMMDPD_GPU_SWEEP_ORDER", "sideways");
         EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_ORDER is 'sideways'", "rounds (the default) or chain"}));
     }
-    for (const char* value : {"0", "5", "two"}) {
+    for (const char* value : {"0", "7", "two"}) {
         EnvironmentSetting blocks("OPENMMDPD_GPU_SWEEP_BLOCKS", value);
         EXPECT_TRUE(firstStepRaisesMentioning(fluid, {std::string("OPENMMDPD_GPU_SWEEP_BLOCKS is '")+value+"'",
-                                                      "a whole number of blocks from 1 to 4 a work-group on this device"}))
+                                                      "a whole number of blocks from 1 to 6 a work-group on this device"}))
             << value;
     }
     {
@@ -246,7 +246,7 @@ TEST(GPUSweep, SweepsHeldInLocalMemoryAndInGlobalMemoryGiveTheSameBits) {
     // pairs, numbers and updates in the same order.  With the capacity at 0 every region takes the
     // global path; the trajectories, the stress sums and Norton's sums must be the same bits.  1536
     // particles: a box of 8 cells, blocks of 2, regions of 48 cells (about 150 particles), all held
-    // with the default capacity (293 in mixed precision); a mixture gives two pair types; BAOOAB's second
+    // with the default capacity (344 in mixed precision); a mixture gives two pair types; BAOOAB's second
     // sweep runs backwards.  (The grid's widest blocks, 3 and 4 cells in a 7-cell box, take the global
     // path at this capacity: tools/trajectory-hashes.py --gpu OpenCL pins them.)
     EquilibratedFluid start = equilibratedSoftFluid(1536);
@@ -260,17 +260,17 @@ TEST(GPUSweep, SweepsHeldInLocalMemoryAndInGlobalMemoryGiveTheSameBits) {
 
 TEST(GPUSweep, SweepCapacityOutOfRangeRaisesNamingIt) {
     SoftFluid fluid = makeSoftFluid(300, 3.0);
-    // Double precision: at most what CUDA's 48 KiB of static shared memory holds, 472 particles.
-    for (const char* value : {"-1", "lots", "473"}) {
+    // Double precision: at most what CUDA's 48 KiB of static shared memory holds, 523 particles.
+    for (const char* value : {"-1", "lots", "524"}) {
         EnvironmentSetting setting("OPENMMDPD_GPU_SWEEP_CAPACITY", value);
         EXPECT_TRUE(firstStepRaisesMentioning(fluid, {std::string("OPENMMDPD_GPU_SWEEP_CAPACITY is '")+value+"'",
-                                                      "a whole number of particles from 0 to 472 in this precision"}))
+                                                      "a whole number of particles from 0 to 523 in this precision"}))
             << value;
     }
-    // With two blocks a work-group each has half of the 48 KiB less its other arrays: 165 particles.
+    // With two blocks a work-group each has half of the 48 KiB less its other arrays: 216 particles.
     EnvironmentSetting blocks("OPENMMDPD_GPU_SWEEP_BLOCKS", "2");
-    EnvironmentSetting setting("OPENMMDPD_GPU_SWEEP_CAPACITY", "166");
-    EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_CAPACITY is '166'",
-                                                  "from 0 to 165 a block with 2 blocks a work-group in this precision"}));
+    EnvironmentSetting setting("OPENMMDPD_GPU_SWEEP_CAPACITY", "217");
+    EXPECT_TRUE(firstStepRaisesMentioning(fluid, {"OPENMMDPD_GPU_SWEEP_CAPACITY is '217'",
+                                                  "from 0 to 216 a block with 2 blocks a work-group in this precision"}));
 }
 

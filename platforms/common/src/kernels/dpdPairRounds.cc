@@ -13,6 +13,28 @@
 #define DPD_SWEEP_SLICE (LOCAL_ID/DPD_SWEEP_LANES)
 #define DPD_SWEEP_LANE (LOCAL_ID%DPD_SWEEP_LANES)
 
+#define DPD_SWEEP_ORNSTEIN_UHLENBECK 0
+#define DPD_SWEEP_BBK 1
+
+/** How a sweep updates its pairs: its mode (the exact OU sweep, PAdL's with xi and sigma, or BBK's) and what that needs. */
+typedef struct DPDSweptPairRule {
+    int mode, adaptive, numTypes;
+    double kT, dt, adaptiveFriction, adaptiveNoise;
+    mm_ulong randomKey;
+} DPDSweptPairRule;
+
+/** A swept pair's update Delta p = slope u + offset (DPDPairFormulas.h) under `rule`, its random numbers those of its System indices. */
+DEVICE DPDPairUpdate dpdSweptPairUpdate(DPDSweptPairRule rule, DPDDissipativePair pair, int originalI, int originalJ) {
+    DPDBoxMuller R = dpdPairNormalFactors(rule.randomKey, originalI, originalJ);
+    if (rule.mode == DPD_SWEEP_ORNSTEIN_UHLENBECK && rule.adaptive) // PAdL: every pair with xi and sigma
+        return adaptiveOrnsteinUhlenbeckUpdate(rule.adaptiveFriction, rule.adaptiveNoise, pair.w, pair.invReducedMass,
+                                               1.0/pair.invReducedMass, rule.dt, R.squaredRadius, R.cosine);
+    if (rule.mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
+        return exactOrnsteinUhlenbeckUpdate(pair.gamma, pair.w, pair.invReducedMass, 1.0/pair.invReducedMass, rule.kT, rule.dt,
+                                            R.squaredRadius, R.cosine);
+    return bbkUpdate(pair.gamma, pair.w, pair.invReducedMass, rule.kT, rule.dt, dpdNormal(R));
+}
+
 /**
  * For the pair this lane found at buffer position k (found: 1) in the chunk whose pairs fill positions
  * [chunkStart, chunkEnd): the latest earlier buffered pair that touches its i, and the one that touches
@@ -78,9 +100,10 @@ DEVICE void dpdLinkBufferedPairs(int found, int k, int chunkStart, int chunkEnd,
  * same updates with the same arithmetic as in the chain.  The rounds number the longest chain of
  * dependent pairs in the buffer, not its pairs.
  *
- * Lane l owns the pairs l, l + DPD_SWEEP_LANES, ...: it takes their coefficients from the buffer and finds
- * their geometry again from the positions (dpdPairGeometry: the search's bits) into registers, so the
- * buffer holds no geometry.  With gather, it adds its pairs' stress and Norton response (after all the
+ * Lane l owns the pairs l, l + DPD_SWEEP_LANES, ...: it finds each one's geometry again from the positions
+ * (dpdFindDissipativePair: the search's bits) and its coefficients (dpdSweptPairUpdate) into registers,
+ * so the buffer holds only the pairs' particles, and a row's pairs, which the search found on one lane,
+ * get their random numbers and exponentials on as many lanes.  With gather, it adds its pairs' stress and Norton response (after all the
  * rounds, in the order of its pairs) to its own sums, which the block adds over the lanes in a fixed
  * order (dpdSumOverLanes).  Returns the number of rounds.  Every lane of the work-group calls it, each
  * slice with its own block's buffer (numBuffered 0 for a slice with nothing to apply) and `pending` the
@@ -88,16 +111,20 @@ DEVICE void dpdLinkBufferedPairs(int found, int k, int chunkStart, int chunkEnd,
  * its own.
  */
 DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITIONS, GLOBAL mixed4* RESTRICT velm,
-                                         GLOBAL const int* RESTRICT atomIndex, LOCAL_ARG const mixed4* regionPosition,
-                                         LOCAL_ARG mixed4* regionVelocity, LOCAL_ARG const int* regionOriginal,
+                                         GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT typeOf,
+                                         LOCAL_ARG const mixed4* regionPosition, LOCAL_ARG mixed4* regionVelocity,
+                                         LOCAL_ARG const int* regionOriginal, LOCAL_ARG const int* regionType, DPDSweptPairRule rule,
+                                         GLOBAL const double* RESTRICT friction, GLOBAL const double* RESTRICT cutoff,
                                          double4 boxSize, double4 inverseBoxSize, double maxCutoff2, double shearRate, int gatherStress,
                                          int withResponse, GLOBAL const double* RESTRICT responseField, LOCAL_ARG const int* pairI,
-                                         LOCAL_ARG const int* pairJ, LOCAL_ARG const double* pairSlope, LOCAL_ARG const double* pairOffset,
-                                         LOCAL_ARG const unsigned short* pairAfterI, LOCAL_ARG const unsigned short* pairAfterJ,
-                                         LOCAL_ARG unsigned short* pairRound, LOCAL_ARG int* pending, double* stress, double* response) {
+                                         LOCAL_ARG const int* pairJ, LOCAL_ARG const unsigned short* pairAfterI,
+                                         LOCAL_ARG const unsigned short* pairAfterJ, LOCAL_ARG unsigned short* pairRound,
+                                         LOCAL_ARG int* pending, double* stress, double* response) {
     int laneI[DPD_SWEEP_PAIRS_PER_LANE], laneJ[DPD_SWEEP_PAIRS_PER_LANE], laneAfterI[DPD_SWEEP_PAIRS_PER_LANE], laneAfterJ[DPD_SWEEP_PAIRS_PER_LANE];
-    double laneSlope[DPD_SWEEP_PAIRS_PER_LANE], laneOffset[DPD_SWEEP_PAIRS_PER_LANE], laneDissipative[DPD_SWEEP_PAIRS_PER_LANE];
-    DPDPairGeometry laneGeometry[DPD_SWEEP_PAIRS_PER_LANE];
+    int laneOriginalI[DPD_SWEEP_PAIRS_PER_LANE], laneOriginalJ[DPD_SWEEP_PAIRS_PER_LANE];
+    double laneDissipative[DPD_SWEEP_PAIRS_PER_LANE];
+    DPDPairUpdate laneUpdate[DPD_SWEEP_PAIRS_PER_LANE];
+    DPDDissipativePair lanePair[DPD_SWEEP_PAIRS_PER_LANE];
     int left = 0, numRounds = 0; // left: a bit for each of this lane's pairs not yet applied
     for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE; n++) {
         int k = DPD_SWEEP_LANE+n*DPD_SWEEP_LANES;
@@ -108,10 +135,15 @@ DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITION
         laneJ[n] = j;
         laneAfterI[n] = pairAfterI[k];
         laneAfterJ[n] = pairAfterJ[k];
-        laneSlope[n] = pairSlope[k];
-        laneOffset[n] = pairOffset[k];
-        laneGeometry[n] = held ? dpdPairGeometry(regionPosition[i], regionPosition[j], maxCutoff2, boxSize, inverseBoxSize)
-                               : dpdPairGeometry(DPD_POSITION(i), DPD_POSITION(j), maxCutoff2, boxSize, inverseBoxSize);
+        int originalI = held ? regionOriginal[i] : atomIndex[i], originalJ = held ? regionOriginal[j] : atomIndex[j];
+        int typeI = held ? regionType[i] : typeOf[originalI], typeJ = held ? regionType[j] : typeOf[originalJ];
+        double invMassI = held ? regionVelocity[i].w : velm[i].w, invMassJ = held ? regionVelocity[j].w : velm[j].w; // (w is constant)
+        // A pair the search found, so found again (and its coefficients) with the same bits.
+        dpdFindDissipativePair(held ? regionPosition[i] : DPD_POSITION(i), held ? regionPosition[j] : DPD_POSITION(j), invMassI, invMassJ,
+                               typeI*rule.numTypes+typeJ, friction, cutoff, maxCutoff2, boxSize, inverseBoxSize, &lanePair[n]);
+        laneUpdate[n] = dpdSweptPairUpdate(rule, lanePair[n], originalI, originalJ);
+        laneOriginalI[n] = originalI;
+        laneOriginalJ[n] = originalJ;
         pairRound[k] = 0;
         left |= 1<<n;
     }
@@ -133,11 +165,10 @@ DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITION
                 continue; // a predecessor not yet applied
             int i = laneI[n], j = laneJ[n];
             mixed4 vi = held ? regionVelocity[i] : velm[i], vj = held ? regionVelocity[j] : velm[j];
-            double ex = laneGeometry[n].ex, ey = laneGeometry[n].ey, ez = laneGeometry[n].ez;
-            DPDPairUpdate update = dpdPairUpdate(laneSlope[n], laneOffset[n]);
-            double u = dpdPairRelativeVelocity(laneGeometry[n].r, ex, ey, ez, vi, vj, shearRate);
-            double change = dpdMomentumChange(update, u);
-            laneDissipative[n] = dpdDissipativePart(update, u);
+            double ex = lanePair[n].ex, ey = lanePair[n].ey, ez = lanePair[n].ez;
+            double u = dpdPairRelativeVelocity(lanePair[n].r, ex, ey, ez, vi, vj, shearRate);
+            double change = dpdMomentumChange(laneUpdate[n], u);
+            laneDissipative[n] = dpdDissipativePart(laneUpdate[n], u);
             vi.x += (mixed) (change*ex*vi.w);
             vi.y += (mixed) (change*ey*vi.w);
             vi.z += (mixed) (change*ez*vi.w);
@@ -171,15 +202,15 @@ DEVICE int dpdApplyBufferedPairsInRounds(int numBuffered, int held, DPD_POSITION
             break;
     }
     for (int n = 0; n < DPD_SWEEP_PAIRS_PER_LANE && DPD_SWEEP_LANE+n*DPD_SWEEP_LANES < numBuffered; n++) {
-        double r = laneGeometry[n].r, ex = laneGeometry[n].ex, ey = laneGeometry[n].ey, ez = laneGeometry[n].ez;
+        double r = lanePair[n].r, ex = lanePair[n].ex, ey = lanePair[n].ey, ez = lanePair[n].ez;
         if (withResponse) { // Norton: G . (Delta p_i^D, Delta p_j^D), Wu & Shang eqs. 60-61
-            int i = held ? regionOriginal[laneI[n]] : atomIndex[laneI[n]], j = held ? regionOriginal[laneJ[n]] : atomIndex[laneJ[n]];
+            int i = laneOriginalI[n], j = laneOriginalJ[n];
             *response += laneDissipative[n]*(ex*(responseField[3*i]-responseField[3*j])+ey*(responseField[3*i+1]-responseField[3*j+1])+
                                              ez*(responseField[3*i+2]-responseField[3*j+2]));
         }
         if (gatherStress) { // r e (x) e times the dissipative (slope u) and random (offset) parts
             dpdAddPairStress(stress, r, laneDissipative[n], ex, ey, ez);
-            dpdAddPairStress(stress+6, r, laneOffset[n], ex, ey, ez);
+            dpdAddPairStress(stress+6, r, laneUpdate[n].offset, ex, ey, ez);
         }
     }
     return numRounds;
@@ -202,4 +233,20 @@ DEVICE double dpdSumOverLanes(double value, LOCAL_ARG double* scratch) {
     double sum = scratch[0];
     SYNC_THREADS; // read before the next call writes
     return sum;
+}
+
+/**
+ * The largest over a slice's lanes of each lane's value, in lane 0 (the others get their own value back);
+ * scratch: the slice's DPD_SWEEP_LANES entries.  Only for the cost model's profile (lane 0 reads them all,
+ * one after another).  Every lane of the work-group calls it.
+ */
+DEVICE double dpdLargestOverLanes(double value, LOCAL_ARG double* scratch) {
+    int lane = DPD_SWEEP_LANE;
+    scratch[lane] = value;
+    SYNC_THREADS;
+    if (lane == 0)
+        for (int other = 1; other < DPD_SWEEP_LANES; other++)
+            value = max(value, scratch[other]);
+    SYNC_THREADS; // read before the next call writes
+    return value;
 }

@@ -27,8 +27,6 @@
  * (dpdPairRounds.cc; the search: dpdPairSearch.cc).
  */
 
-#define DPD_SWEEP_ORNSTEIN_UHLENBECK 0
-#define DPD_SWEEP_BBK 1
 #define DPD_SWEEP_HELD_SIZE (DPD_SWEEP_CAPACITY > 0 ? DPD_SWEEP_CAPACITY : 1) // a capacity of 0: no region is held
 
 /*
@@ -129,11 +127,9 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
     DPD_SWEEP_SLICE_ARRAY(int, regionLatestPair, DPD_SWEEP_HELD_SIZE); // the latest pair (numbered over the block) that touched the slot, or -1
     DPD_SWEEP_SLICE_ARRAY(mixed4, regionPosition, DPD_SWEEP_HELD_SIZE);
     DPD_SWEEP_SLICE_ARRAY(mixed4, regionVelocity, DPD_SWEEP_HELD_SIZE);
-    // The buffer of pairs found and not yet applied, in the sweep's order: region slots (atoms when not held locally) and coefficients.
+    // The buffer of pairs found and not yet applied, in the sweep's order: region slots (atoms when not held locally).
     DPD_SWEEP_SLICE_ARRAY(int, pairI, DPD_SWEEP_PAIRS);
     DPD_SWEEP_SLICE_ARRAY(int, pairJ, DPD_SWEEP_PAIRS);
-    DPD_SWEEP_SLICE_ARRAY(double, pairSlope, DPD_SWEEP_PAIRS);
-    DPD_SWEEP_SLICE_ARRAY(double, pairOffset, DPD_SWEEP_PAIRS);
     DPD_SWEEP_SLICE_ARRAY(unsigned short, pairAfterI, DPD_SWEEP_PAIRS);
     DPD_SWEEP_SLICE_ARRAY(unsigned short, pairAfterJ, DPD_SWEEP_PAIRS);
     DPD_SWEEP_SLICE_ARRAY(unsigned short, pairRound, DPD_SWEEP_PAIRS);
@@ -143,6 +139,7 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
     LOCAL int takenTicket, stillWaiting; // the schedule's (dpdSweepSchedule.cc)
     int lane = DPD_SWEEP_LANE;
     double maxCutoff2 = maxCutoff*maxCutoff;
+    DPDSweptPairRule rule = {mode, adaptive, numTypes, kT, dt, adaptiveFriction, adaptiveNoise, randomKey};
     int halfX = numBlocks.x == 1 ? 1 : numBlocks.x/2, halfY = numBlocks.y == 1 ? 1 : numBlocks.y/2;
     // Items of DPD_SWEEP_BLOCKS consecutive blocks of a colour, the colours' turns in order (dpdSweepSchedule.cc).
     int itemsPerColour = (blocksInColour+DPD_SWEEP_BLOCKS-1)/DPD_SWEEP_BLOCKS;
@@ -218,6 +215,10 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
         // as far as it has room; a row that does not fit is resumed by the next batch where it stopped.  The
         // same in every lane of the slice.
         int nextRow = 0, resumeAt = 0, numBuffered = 0, numRounds = 0, numPairs = 0;
+        // For the cost model, in lane 0 (recordRounds): the batches, their link windows, over the batches the
+        // candidates the slowest lane tested and the pairs it took, and over the buffer's applications the
+        // most pairs a lane applies (and finds the coefficients of).
+        int numBatches = 0, numWindows = 0, slowestLaneTests = 0, slowestLanePairs = 0, appliedWindows = 0;
         for (;;) {
             if (lane == 0)
                 sliceBusy[DPD_SWEEP_SLICE] = nextRow < numRows; // (a buffer left over is applied when the rows run out)
@@ -246,7 +247,7 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
             // Pass 0 counts the row's pairs from `start` and marks the first 64 candidates' in foundBits; pass 1
             // puts the first `allowed` of them in the buffer from numBuffered + `before` on, and finds where the row stops.
             mm_ulong foundBits = 0;
-            int room = DPD_SWEEP_PAIRS-numBuffered, count = 0, before = 0, allowed = 0, stop = start, total = 0;
+            int room = DPD_SWEEP_PAIRS-numBuffered, count = 0, before = 0, allowed = 0, stop = start, total = 0, rowLength = 0;
             for (int pass = 0; pass < 2; pass++) {
                 int candidate = 0, taken = 0, full = pass == 1 && allowed == 0;
                 // The row's candidates in 14 runs: the later particles of i's cell, then the 13 half-stencil cells (backwards when reversed).
@@ -268,34 +269,26 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                         }
                         int slotJ = regionFirst[cellJ]+offsetJ;
                         int atomJ = held ? slotJ : cellAtoms[regionGridStart[cellJ]+offsetJ];
-                        int originalJ = held ? regionOriginal[slotJ] : atomIndex[atomJ];
-                        int typeJ = held ? regionType[slotJ] : typeOf[originalJ];
-                        mixed4 pj = held ? regionPosition[slotJ] : DPD_POSITION(atomJ);
-                        double invMassJ = held ? regionVelocity[slotJ].w : velm[atomJ].w;
-                        DPDDissipativePair pair;
-                        if (!dpdFindDissipativePair(pi, pj, invMassI, invMassJ, typeI*numTypes+typeJ, friction, cutoff, maxCutoff2,
-                                                    boxSize, inverseBoxSize, &pair))
-                            continue;
+                        if (pass == 0 || bit >= 64) { // (pass 1 knows the first 64 candidates' pairs from foundBits)
+                            int originalJ = held ? regionOriginal[slotJ] : atomIndex[atomJ];
+                            int typeJ = held ? regionType[slotJ] : typeOf[originalJ];
+                            mixed4 pj = held ? regionPosition[slotJ] : DPD_POSITION(atomJ);
+                            double invMassJ = held ? regionVelocity[slotJ].w : velm[atomJ].w;
+                            DPDDissipativePair pair;
+                            if (!dpdFindDissipativePair(pi, pj, invMassI, invMassJ, typeI*numTypes+typeJ, friction, cutoff, maxCutoff2,
+                                                        boxSize, inverseBoxSize, &pair))
+                                continue;
+                        }
                         if (pass == 0) {
                             count++;
                             if (bit < 64)
                                 foundBits |= ((mm_ulong) 1)<<bit;
                             continue;
                         }
-                        DPDBoxMuller R = dpdPairNormalFactors(randomKey, originalI, originalJ);
-                        DPDPairUpdate update;
-                        if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK && adaptive) // PAdL: every pair with xi and sigma
-                            update = adaptiveOrnsteinUhlenbeckUpdate(adaptiveFriction, adaptiveNoise, pair.w, pair.invReducedMass,
-                                                                     1.0/pair.invReducedMass, dt, R.squaredRadius, R.cosine);
-                        else if (mode == DPD_SWEEP_ORNSTEIN_UHLENBECK)
-                            update = exactOrnsteinUhlenbeckUpdate(pair.gamma, pair.w, pair.invReducedMass, 1.0/pair.invReducedMass, kT, dt,
-                                                                  R.squaredRadius, R.cosine);
-                        else
-                            update = bbkUpdate(pair.gamma, pair.w, pair.invReducedMass, kT, dt, dpdNormal(R));
-                        pairI[numBuffered+before+taken] = atomI;
-                        pairJ[numBuffered+before+taken] = atomJ;
-                        pairSlope[numBuffered+before+taken] = update.slope;
-                        pairOffset[numBuffered+before+taken] = update.offset;
+                        // The pair's coefficients are found by the lane that applies it (dpdApplyBufferedPairsInRounds).
+                        int place = numBuffered+before+taken;
+                        pairI[place] = atomI;
+                        pairJ[place] = atomJ;
                         taken++;
                         stop = c+1;
                     }
@@ -305,6 +298,7 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                     before = dpdExclusiveScanOfLanes(count, laneSums, lane, DPD_SWEEP_LANES);
                     total = laneSums[DPD_SWEEP_LANES-1];
                     allowed = max(0, min(count, room-before));
+                    rowLength = candidate;
                 }
             }
             // The row the buffer's room ended in, if any (the rows' pairs beyond room): the next batch's first, from where it stopped.
@@ -315,6 +309,12 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
             }
             int numWritten = min(total, room);
             numBuffered += numWritten;
+            if (recordRounds) { // (lane 0's row is the batch's first: it has one while the slice is busy)
+                slowestLaneTests += (int) dpdLargestOverLanes((double) (hasRow ? rowLength-start : 0), laneTotals);
+                slowestLanePairs += (int) dpdLargestOverLanes((double) allowed, laneTotals);
+                numBatches += hasRow;
+                numWindows += (numWritten+DPD_SWEEP_LANES-1)/DPD_SWEEP_LANES;
+            }
             if (lane == 0)
                 sliceWindows[DPD_SWEEP_SLICE] = (numWritten+DPD_SWEEP_LANES-1)/DPD_SWEEP_LANES;
             SYNC_THREADS; // the pairs, the resumed row and the windows written
@@ -346,12 +346,13 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                 anyApplies |= sliceApplies[slice];
             if (anyApplies) {
                 int rounds = dpdApplyBufferedPairsInRounds(applies ? numBuffered : 0, held, DPD_POSITION_ARGUMENTS, velm, atomIndex,
-                                                           regionPosition, regionVelocity, regionOriginal, boxSize, inverseBoxSize,
-                                                           maxCutoff2, shearRate, gatherStress, withResponse, responseField, pairI, pairJ,
-                                                           pairSlope, pairOffset, pairAfterI, pairAfterJ, pairRound, pendingRounds,
-                                                           stress, &response);
+                                                           typeOf, regionPosition, regionVelocity, regionOriginal, regionType, rule,
+                                                           friction, cutoff, boxSize, inverseBoxSize, maxCutoff2, shearRate, gatherStress,
+                                                           withResponse, responseField, pairI, pairJ, pairAfterI, pairAfterJ, pairRound,
+                                                           pendingRounds, stress, &response);
                 if (applies) {
                     numRounds += rounds;
+                    appliedWindows += (numBuffered+DPD_SWEEP_LANES-1)/DPD_SWEEP_LANES;
                     numPairs += numBuffered;
                     numBuffered = 0;
                 }
@@ -374,11 +375,12 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
                 blockResponse[active ? turn*blocksInColour+b : 8*blocksInColour+DPD_SWEEP_SLICE] = sum;
         }
         int numCandidates = recordRounds ? (int) dpdSumOverLanes((double) rowCandidates, laneTotals) : 0; // (exact: an int's sum)
-        if (lane == 0 && recordRounds) { // for the cost model (CommonDPDSweepProfile): this block's rounds, pairs and candidates
+        if (lane == 0 && recordRounds) { // for the cost model (CommonDPDSweepProfile): this block's row, in its columns' order
             int row = active ? colour*blocksInColour+b : 8*blocksInColour+DPD_SWEEP_SLICE; // a spare row past them
-            blockRounds[3*row] = numRounds;
-            blockRounds[3*row+1] = numPairs;
-            blockRounds[3*row+2] = numCandidates;
+            int values[DPD_SWEEP_PROFILE_COLUMNS] = {numRounds, numPairs, numCandidates, numBatches, numWindows, slowestLaneTests,
+                                                     slowestLanePairs, appliedWindows};
+            for (int column = 0; column < DPD_SWEEP_PROFILE_COLUMNS; column++)
+                blockRounds[DPD_SWEEP_PROFILE_COLUMNS*row+column] = values[column];
         }
         SYNC_THREADS; // the next blocks reuse the local arrays, and the ticket is read
         dpdMarkBlockSwept(active, bx, by, bz, numBlocks, blockSwept, epoch);
