@@ -35,26 +35,32 @@ DEVICE DPDPairUpdate dpdSweptPairUpdate(DPDSweptPairRule rule, DPDDissipativePai
     return bbkUpdate(pair.gamma, pair.w, pair.invReducedMass, rule.kT, rule.dt, dpdNormal(R));
 }
 
+#if defined(__OPENCL_VERSION__)
+#define DPD_LOCAL_ATOMIC_MAX(destination, value) atomic_max(destination, value)
+#else
+#define DPD_LOCAL_ATOMIC_MAX(destination, value) atomicMax(destination, value)
+#endif
+
 /**
- * For the pair this lane found at buffer position k (found: 1) in the chunk whose pairs fill positions
- * [chunkStart, chunkEnd): the latest earlier buffered pair that touches its i, and the one that touches
- * its j (DPD_SWEEP_NO_PAIR if none since the buffer's last application).  Within the chunk (a few
- * pairs) it looks back; before it, it reads latestPair, each region slot's latest pair numbered over
- * the whole block (flushStart: the block number of the buffer's first pair), which the chunk's last
- * pair of each particle then updates.  Every lane calls it.  With DPD_SWEEP_IN_ROUNDS 0 every pair
- * waits for the one before it instead: the chain itself, one pair a round, whose bits the rounds must
- * give (the test).
+ * For the pair this lane found at buffer position k (found: 1) in the window whose pairs fill positions
+ * [windowStart, k]: the latest earlier buffered pair that touches its i, and the one that touches its j
+ * (DPD_SWEEP_NO_PAIR if none since the buffer's last application).  Within the window (a few pairs) it
+ * looks back; before it, it reads latestPair, each region slot's latest pair numbered over the whole
+ * block (flushStart: the block number of the buffer's first pair), which every pair of the window then
+ * raises to its own number by an atomic maximum, so the window's last pair of each slot is what stays,
+ * whatever order the lanes run in (one operation a pair, not a scan of the window's later pairs).
+ * Every lane calls it.  With DPD_SWEEP_IN_ROUNDS 0 every pair waits for the one before it instead: the
+ * chain itself, one pair a round, whose bits the rounds must give (the test).
  */
-DEVICE void dpdLinkBufferedPairs(int found, int k, int chunkStart, int chunkEnd, int flushStart, int held, LOCAL_ARG const int* pairI,
+DEVICE void dpdLinkBufferedPairs(int found, int k, int windowStart, int flushStart, int held, LOCAL_ARG const int* pairI,
                                  LOCAL_ARG const int* pairJ, LOCAL_ARG unsigned short* pairAfterI, LOCAL_ARG unsigned short* pairAfterJ,
                                  LOCAL_ARG int* latestPair) {
-    SYNC_THREADS; // the chunk's pairs written
-    int lastOfI = 0, lastOfJ = 0;
+    SYNC_THREADS; // the window's pairs written
     if (found) {
         int i = pairI[k], j = pairJ[k], afterI = DPD_SWEEP_NO_PAIR, afterJ = DPD_SWEEP_NO_PAIR;
 #if DPD_SWEEP_IN_ROUNDS
         // A region swept in global memory has no slot table: its pairs look back over the whole buffer.
-        for (int earlier = k-1; earlier >= (held ? chunkStart : 0) && (afterI == DPD_SWEEP_NO_PAIR || afterJ == DPD_SWEEP_NO_PAIR); earlier--) {
+        for (int earlier = k-1; earlier >= (held ? windowStart : 0) && (afterI == DPD_SWEEP_NO_PAIR || afterJ == DPD_SWEEP_NO_PAIR); earlier--) {
             int a = pairI[earlier], b = pairJ[earlier];
             if (afterI == DPD_SWEEP_NO_PAIR && (a == i || b == i))
                 afterI = earlier;
@@ -71,22 +77,14 @@ DEVICE void dpdLinkBufferedPairs(int found, int k, int chunkStart, int chunkEnd,
         if (k > 0)
             afterI = k-1;
 #endif
-        if (held) { // the table is also what marks a slot touched, in either order
-            lastOfI = lastOfJ = 1;
-            for (int later = k+1; later < chunkEnd; later++) {
-                int a = pairI[later], b = pairJ[later];
-                lastOfI &= a != i && b != i;
-                lastOfJ &= a != j && b != j;
-            }
-        }
         pairAfterI[k] = (unsigned short) afterI;
         pairAfterJ[k] = (unsigned short) afterJ;
     }
     SYNC_THREADS; // every lane has read latestPair
-    if (lastOfI)
-        latestPair[pairI[k]] = flushStart+k;
-    if (lastOfJ)
-        latestPair[pairJ[k]] = flushStart+k;
+    if (found && held) { // the table is also what marks a slot touched, in either order
+        DPD_LOCAL_ATOMIC_MAX(&latestPair[pairI[k]], flushStart+k);
+        DPD_LOCAL_ATOMIC_MAX(&latestPair[pairJ[k]], flushStart+k);
+    }
 }
 
 /**

@@ -333,7 +333,7 @@ KERNEL void dpdSweepColours(int firstTurn, int numTurns, GLOBAL int* RESTRICT ti
             for (int window = 0; window < mostWindows; window++) {
                 int windowStart = linkStart+window*DPD_SWEEP_LANES, windowEnd = min(numBuffered, windowStart+DPD_SWEEP_LANES);
                 int k = windowStart+lane;
-                dpdLinkBufferedPairs(k < windowEnd, k, windowStart, windowEnd, numPairs, held, pairI, pairJ, pairAfterI, pairAfterJ,
+                dpdLinkBufferedPairs(k < windowEnd, k, windowStart, numPairs, held, pairI, pairJ, pairAfterI, pairAfterJ,
                                      regionLatestPair);
             }
             // The buffer is applied when full, or at the block's end.
