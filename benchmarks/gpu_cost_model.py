@@ -15,8 +15,9 @@ What is counted, and what is assumed:
   runs all its colours in one launch (dpdSweepSchedule.cc): the work-groups take the blocks by ticket,
   colour after colour, and a block starts when its work-group is free and its neighbours of earlier
   colours are swept.  The critical path is that schedule's makespan, in rounds, simulated block by
-  block (one_launch_schedule) with OpenMM's numThreadBlocks work-groups (6 a multiprocessor on CUDA,
-  792 on an H200).  Beside it, a launch a colour (OPENMMDPD_GPU_SWEEP_LAUNCHES=colours): per colour
+  block (one_launch_schedule) with the work-groups in flight: OpenMM's numThreadBlocks (6 a
+  multiprocessor on CUDA, 792 on an H200), or fewer where the compiled kernel's registers and local
+  memory let a multiprocessor hold fewer (gpu_occupancy.py, with nvcc).  Beside it, a launch a colour (OPENMMDPD_GPU_SWEEP_LAUNCHES=colours): per colour
   the largest, over the work-groups, of the rounds of the blocks it sweeps in turn (block b of a colour
   to work-group b mod 792), summed over the colours.  Both summed over the sweeps of a step.
 - **What the pair order allows** is emulated (gpu_sweep_order.py, checked block by block against the
@@ -56,6 +57,7 @@ import sys
 import heapq
 import itertools
 import tempfile
+import functools
 from dataclasses import dataclass
 from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
@@ -63,6 +65,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, os.pardir, "tools", "opencl-probe"))
 sys.path.insert(0, HERE)
 from bench_gpu import build_opencl_counter, make_context  # noqa: E402  (the benchmark's scene and counter)
+import gpu_occupancy  # noqa: E402
 import gpu_sweep_order  # noqa: E402
 
 
@@ -77,13 +80,15 @@ class TargetGpu:
     concurrent_work_groups: int  # OpenMM's numThreadBlocks: the work-groups of one launch
     source: str
     # With several blocks a work-group (OPENMMDPD_GPU_SWEEP_BLOCKS > 1) each work-group takes 48 KiB of
-    # local memory: the work-groups a multiprocessor holds at once (228 KiB / (48 + 1) KiB on an H100/H200).
+    # local memory: the work-groups a multiprocessor holds at once (228 KiB / (48 + 1) KiB on an H100/H200),
+    # where the kernel's registers are not known (no nvcc: gpu_occupancy.py).
     side_by_side_work_groups: int = 0
+    multiprocessors: int = 0  # where known, the work-groups in flight are also bounded by what each holds (gpu_occupancy.py)
 
 
 H200 = TargetGpu("NVIDIA H200 SXM", 4.3e12, 3e-6, 1.98e9, 6 * 132,
                  "4.8 TB/s HBM3e (datasheet), 4.3 TB/s achievable (../shared/GPU.md); 132 SMs x OpenMM's 6 "
-                 "work-groups each = 792; 1.98 GHz boost; 3 us a dependent launch (CUDA's typical 2-5 us)", 4 * 132)
+                 "work-groups each = 792; 1.98 GHz boost; 3 us a dependent launch (CUDA's typical 2-5 us)", 4 * 132, 132)
 
 # Cycles of the sweep's pieces on the target (estimates, see the module's docstring), each on a block's
 # critical path: the profile's columns (CommonDPDSweepProfile) say how many of each a block takes.
@@ -91,7 +96,10 @@ CYCLES_PER_BLOCK = 2500  # the region's cells, counts and scans, its particles i
 CYCLES_PER_BATCH = 1000  # a batch of rows: each lane's row found, the rows' counts scanned, the lockstep's barriers
 CYCLES_PER_CANDIDATE_TEST = 100  # the slowest lane's test of a candidate: its local loads, the minimum image, r^2
 CYCLES_PER_PAIR_TAKEN = 50  # the slowest lane's pair put in the buffer: its two particles' slots
-CYCLES_PER_LINK_WINDOW = 1000  # a window of a lane's pair each linked to its particles' earlier pairs
+# A window of a lane's pair each linked to its particles' earlier pairs: the look-back (it stops at both
+# predecessors, a few pairs) and two local atomic maxima; 1000 before d3fef12, when each pair also scanned
+# the window's later pairs.
+CYCLES_PER_LINK_WINDOW = 600
 CYCLES_PER_APPLIED_WINDOW = 1500  # a lane's pair of an application, found again with its coefficients: Philox, Box-Muller, exp
 CYCLES_PER_ROUND = 250  # a round of disjoint pairs: velocities from local memory, the update, a barrier
 
@@ -199,14 +207,24 @@ class SweepCost:
     pairs: int
 
 
-def sweep_cost(sweep: dict, gpu: TargetGpu, blocks_at_once: int = 1) -> SweepCost:
+def work_groups_in_flight(gpu: TargetGpu, blocks_at_once: int, residency: Optional[gpu_occupancy.SweepResidency] = None) -> int:
+    """The sweep's work-groups that run at once: OpenMM's cap on a launch's, and, where the compiled kernel's
+    registers and local memory are known (`residency`), no more than the multiprocessors hold; without,
+    with S > 1 those the multiprocessors hold at 48 KiB each."""
+    if residency is not None and gpu.multiprocessors:
+        return min(gpu.concurrent_work_groups, residency.work_groups_per_multiprocessor * gpu.multiprocessors)
+    if blocks_at_once == 1:
+        return gpu.concurrent_work_groups
+    return min(gpu.concurrent_work_groups, gpu.side_by_side_work_groups or gpu.concurrent_work_groups)
+
+
+def sweep_cost(sweep: dict, gpu: TargetGpu, blocks_at_once: int = 1, residency: Optional[gpu_occupancy.SweepResidency] = None) -> SweepCost:
     """What one sweep costs on `gpu` with `blocks_at_once` blocks a work-group side by side, as
     OPENMMDPD_GPU_SWEEP_BLOCKS sweeps them: in one launch, the schedule of one_launch_schedule; a launch a
     colour, work-group g takes blocks g S .. g S + S - 1 of a colour, then those a launch's work-groups
-    further on.  A work-group's slices run in lockstep, so each item costs its slowest block.  With S > 1
-    the work-groups in flight are those the multiprocessors hold at 48 KiB each."""
-    groups = gpu.concurrent_work_groups if blocks_at_once == 1 else \
-        min(gpu.concurrent_work_groups, gpu.side_by_side_work_groups or gpu.concurrent_work_groups)
+    further on.  A work-group's slices run in lockstep, so each item costs its slowest block.  The
+    work-groups in flight: work_groups_in_flight."""
+    groups = work_groups_in_flight(gpu, blocks_at_once, residency)
     colour_by_colour, turns = 0, 0
     all_rounds, all_pairs = [], []
     for colour in sweep["colours"]:
@@ -239,6 +257,7 @@ class StepModel:
     sweeps_per_step: int
     seconds: float
     critical_rounds_at_once: Dict[int, int]  # the critical path with 2 and 4 blocks a work-group (OPENMMDPD_GPU_SWEEP_BLOCKS)
+    residency: Dict[int, Optional[gpu_occupancy.SweepResidency]]  # by blocks a work-group: the compiled kernel's, where nvcc is here
     # The critical path with a work-group for every block of the sweep: the waits between neighbours alone,
     # what no number of blocks in flight can shorten while a block waits for whole neighbours.
     critical_rounds_every_block_in_flight: int
@@ -256,7 +275,7 @@ class OrderBounds:
     longest_chain: int  # no barrier at all: the least any schedule of these bits takes
 
 
-def order_bounds(n: int, gpu: TargetGpu, sweeps_per_step: int) -> OrderBounds:
+def order_bounds(n: int, gpu: TargetGpu, sweeps_per_step: int, work_groups: int) -> OrderBounds:
     import numpy as np
 
     import openmmdpd as dpd
@@ -267,12 +286,20 @@ def order_bounds(n: int, gpu: TargetGpu, sweeps_per_step: int) -> OrderBounds:
     every_block = len(order.swept)  # a work-group each
     whole_blocks = one_launch_schedule(gpu_sweep_order.as_profile(order), every_block, 1, lambda entry, b: entry["rounds"][b])
     return OrderBounds(*(sweeps_per_step * int(value) for value in (
-        whole_blocks, gpu_sweep_order.particle_waits(order, gpu.concurrent_work_groups),
+        whole_blocks, gpu_sweep_order.particle_waits(order, work_groups),
         gpu_sweep_order.particle_waits(order), gpu_sweep_order.particle_waits(order, None, buffer_barriers=False))))
 
 
-def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu, with_order_bounds: bool = True) -> StepModel:
-    sweep = sweep_cost(sweeps[-1], gpu)
+@functools.lru_cache(maxsize=None)
+def compiled_sweep_residency(blocks: int) -> Optional[gpu_occupancy.SweepResidency]:
+    """The sweep kernel's residency in mixed precision (the bench scene's), compiled once a run."""
+    return gpu_occupancy.sweep_residency(gpu_occupancy.DEFAULT_SOURCE, "MIXED", blocks)
+
+
+def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: TargetGpu, with_order_bounds: bool = True,
+               residency: Optional[Dict[int, Optional[gpu_occupancy.SweepResidency]]] = None) -> StepModel:
+    residency = residency if residency is not None else {s: compiled_sweep_residency(s) for s in (1, 2, 4)}
+    sweep = sweep_cost(sweeps[-1], gpu, 1, residency[1])
     per_step = len(sweeps) // 2  # two steps were profiled
     bytes_per_particle = {name: KERNEL_BYTES.get(name, 0.0) * count for name, count in launches.items() if name != SWEEP_KERNEL}
     bytes_per_particle[SWEEP_KERNEL] = per_step * sweep.region_particles * (SWEEP_BYTES_PER_REGION_PARTICLE + SWEEP_BYTES_PER_WRITE)
@@ -281,11 +308,24 @@ def model_step(n: int, launches: Dict[str, float], sweeps: Sequence[dict], gpu: 
         memory = bytes_per_particle[name] * n / gpu.bandwidth_bytes_per_second
         # The sweep takes the longer of its bytes and its critical path (its latency), each of its sweeps a step.
         seconds += max(memory, per_step * sweep.critical_seconds) if name == SWEEP_KERNEL else memory
-    at_once = {s: per_step * sweep_cost(sweeps[-1], gpu, s).critical_rounds for s in (2, 4)}
+    at_once = {s: per_step * sweep_cost(sweeps[-1], gpu, s, residency[s]).critical_rounds for s in (2, 4)}
     every_block = sum(len(colour["rounds"]) for colour in sweeps[-1]["colours"])  # a work-group each: none ever waits for one
     in_flight = per_step * int(one_launch_schedule(sweeps[-1], every_block, 1, lambda entry, b: entry["rounds"][b]))
-    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once, in_flight,
-                     order_bounds(n, gpu, per_step) if with_order_bounds else None)
+    return StepModel(n, launches, bytes_per_particle, sweep, per_step, seconds, at_once, residency, in_flight,
+                     order_bounds(n, gpu, per_step, work_groups_in_flight(gpu, 1, residency[1])) if with_order_bounds else None)
+
+
+def residency_text(m: StepModel, gpu: TargetGpu) -> str:
+    """The sentence on the work-groups in flight: the compiled kernel's where nvcc was here, else the assumption."""
+    known = {s: r for s, r in m.residency.items() if r is not None}
+    if not known or not gpu.multiprocessors:
+        return (f"Work-groups in flight (no nvcc here, so the kernel's registers are unknown): OpenMM's {gpu.concurrent_work_groups}, "
+                f"and with 2 or 4 blocks a work-group {gpu.side_by_side_work_groups or gpu.concurrent_work_groups} (48 KiB each).")
+    parts = [f"{r.describe()}, so {work_groups_in_flight(gpu, s, r)} in flight ({s * work_groups_in_flight(gpu, s, r)} blocks)"
+             for s, r in sorted(known.items())]
+    return ("Work-groups in flight, from the sweep kernel compiled for sm_90 in mixed precision (benchmarks/gpu_occupancy.py: "
+            f"ptxas's registers and local memory against a multiprocessor's limits, at most OpenMM's {gpu.concurrent_work_groups} "
+            f"a launch, {gpu.multiprocessors} multiprocessors): " + "; ".join(parts) + ".")
 
 
 def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optional[Dict[int, float]] = None) -> List[str]:
@@ -295,11 +335,12 @@ def report(models: List[StepModel], gpu: TargetGpu, device: str, measured: Optio
              f"{CYCLES_PER_CANDIDATE_TEST} a candidate and {CYCLES_PER_PAIR_TAKEN} a pair of a batch's slowest lane, "
              f"{CYCLES_PER_LINK_WINDOW} a link window, {CYCLES_PER_APPLIED_WINDOW} a pair a lane's coefficients, "
              f"{CYCLES_PER_ROUND} a round.  Bench scene: rho = 3, gamma = 4.5, dt = 0.04, mixed precision.", "",
+             residency_text(models[0], gpu) if models else "", "",
              "| N | launches/step | bytes/particle-step (model) | sweep: blocks a work-group sweeps in turn | rounds/block "
              "| pairs/block | critical path, dependent updates a step, all colours in one launch: rounds (lane 0's chain before them) "
-             "| a launch a colour | with 2, 4 blocks a work-group side by side, one launch (OPENMMDPD_GPU_SWEEP_BLOCKS; 4 hold 63 particles a region locally in mixed precision, so nearly every region takes the global path) "
+             "| a launch a colour | with 2, 4 blocks a work-group side by side, one launch (OPENMMDPD_GPU_SWEEP_BLOCKS, the work-groups in flight above; 4 hold 63 particles a region locally in mixed precision, so nearly every region takes the global path, which is not priced) "
              "| every block in flight, each after its whole neighbours (the emulated order's) "
-             f"| each pair after its own particles' earlier pairs, {gpu.concurrent_work_groups} work-groups (every block in flight) "
+             f"| each pair after its own particles' earlier pairs, {work_groups_in_flight(gpu, 1, models[0].residency[1]) if models else gpu.concurrent_work_groups} work-groups (every block in flight) "
              "| the pair order's longest chain | expected time/step | expected particle-steps/s | measured time/step |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for m in models:
