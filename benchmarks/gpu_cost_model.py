@@ -49,6 +49,7 @@ Usage: python benchmarks/gpu_cost_model.py [--sizes N ...] [--platform OpenCL] [
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import statistics
@@ -57,7 +58,6 @@ import sys
 import heapq
 import itertools
 import tempfile
-import functools
 from dataclasses import dataclass
 from typing import Callable, Dict, List, Optional, Sequence, Tuple
 

@@ -119,7 +119,7 @@ class SweepResidency:
         r = self.resources
         return (f"{self.blocks} block{'s' if self.blocks > 1 else ''} a work-group: {r.registers} registers a lane, "
                 f"{r.shared_bytes} B local memory, {r.stack_bytes} B stack, {r.spill_bytes} B spilled: "
-                f"{self.work_groups_per_multiprocessor} work-groups a multiprocessor")
+                f"{self.work_groups_per_multiprocessor} work-group{'s' if self.work_groups_per_multiprocessor != 1 else ''} a multiprocessor")
 
 
 def sweep_residency(source: str = DEFAULT_SOURCE, precision: str = "MIXED", blocks: int = 1) -> Optional[SweepResidency]:
